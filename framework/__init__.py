@@ -1,0 +1,16 @@
+"""Semi-analytical contact mechanics of (visco)elastic half-spaces.
+
+Influence coefficients and DC-FFT convolutions for the half-space, the
+Polonsky-Keer conjugate-gradient contact solver and a time stepper with Prony
+recursions. See README.md for the two commands and a scripting example.
+"""
+from . import errors, fft, indenters, loads, materials, reference, schedules
+from ._version import __version__
+from .grid import Grid
+from .result import Result, StepRecord
+from .simulation import Options, Simulation
+from .solver import ContactSolution, SolverOptions, solve_normal
+
+__all__ = ["Grid", "Options", "Result", "Simulation", "SolverOptions", "ContactSolution", "StepRecord",
+           "solve_normal", "errors", "fft", "indenters", "loads", "materials", "reference", "schedules",
+           "__version__"]

@@ -1,0 +1,30 @@
+"""The framework's exceptions.
+
+Every message says what was wrong, the value received and what was expected.
+The classes also derive from the matching built-in so that callers may catch
+``ValueError`` or ``RuntimeError`` as usual.
+"""
+
+
+class FrameworkError(Exception):
+    """Base class of every exception raised on purpose by the framework."""
+
+
+class ParameterError(FrameworkError, ValueError):
+    """A parameter has a value outside its admissible range or of the wrong kind."""
+
+
+class ShapeError(FrameworkError, ValueError):
+    """An array does not have the shape the operation needs."""
+
+
+class GridTooSmallError(FrameworkError, ValueError):
+    """The contact reaches the edge of a non-periodic grid: enlarge the grid or lower the load."""
+
+
+class ConvergenceError(FrameworkError, RuntimeError):
+    """An iterative solver stopped before meeting its tolerance."""
+
+    def __init__(self, message, result=None):
+        super().__init__(message)
+        self.result = result

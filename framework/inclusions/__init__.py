@@ -1,0 +1,1 @@
+"""Ellipsoidal inhomogeneities (equivalent inclusion method); arrives with THEORY.md sec. 8."""

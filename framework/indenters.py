@@ -1,0 +1,157 @@
+"""Rigid indenter bodies, each a height ``h(x1, x2) >= 0`` above its lowest point.
+
+The axis of an axisymmetric body passes through the origin of the grid; the
+height is the separation from the undeformed flat surface when the body just
+touches it. Bodies with vertical walls (flat punches) use a wall as high as
+``WALL`` times the larger grid side, far above any small-strain displacement.
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._validation import check_finite_array, check_non_negative, check_positive
+from .errors import ParameterError, ShapeError
+
+WALL = 1.0
+
+
+class Indenter:
+    """Base class: subclasses define :meth:`height`."""
+
+    def height(self, x1, x2):  # pragma: no cover - interface
+        """Height [m] of the body above the undeformed surface at ``(x1, x2)`` [m]."""
+        raise NotImplementedError
+
+    def on_grid(self, grid):
+        """Height on the cells of ``grid`` [m], checked finite."""
+        x1, x2 = grid.coordinates()
+        return check_finite_array(self.height(x1, x2), name=f"{type(self).__name__} height", shape=grid.shape)
+
+
+def _wall(x1, x2):
+    return WALL * max(np.ptp(x1), np.ptp(x2), np.finfo(float).tiny) + 0.0 * x1
+
+
+@dataclass(frozen=True)
+class Sphere(Indenter):
+    """Rigid sphere.
+
+    Parameters
+    ----------
+    radius : float
+        Sphere radius [m].
+    exact : bool
+        False (default): the paraboloid ``r^2 / (2 R)`` of Hertz theory.
+        True: the exact sphere ``R - sqrt(R^2 - r^2)`` (height ``R`` beyond ``r = R``).
+    """
+
+    radius: float
+    exact: bool = False
+
+    def __post_init__(self):
+        object.__setattr__(self, "radius", check_positive(self.radius, name="radius", unit="m"))
+
+    def height(self, x1, x2):
+        r2 = np.asarray(x1) ** 2 + np.asarray(x2) ** 2
+        if not self.exact:
+            return r2 / (2 * self.radius)
+        return self.radius - np.sqrt(np.maximum(self.radius**2 - r2, 0.0))
+
+
+@dataclass(frozen=True)
+class FlatPunch(Indenter):
+    """Rigid flat-ended cylindrical punch with a sharp edge.
+
+    Parameters
+    ----------
+    radius : float
+        Punch radius [m].
+    """
+
+    radius: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "radius", check_positive(self.radius, name="radius", unit="m"))
+
+    def height(self, x1, x2):
+        r = np.hypot(x1, x2)
+        return np.where(r <= self.radius, 0.0, _wall(x1, x2))
+
+
+@dataclass(frozen=True)
+class RoundedFlatPunch(Indenter):
+    """Flat punch with a rounded edge (Ciavarella 1999; seed 001 eq. 5).
+
+    ``h = 0`` for ``r <= flat_radius`` and ``(r - flat_radius)^2 / (2 edge_radius)`` beyond.
+
+    Parameters
+    ----------
+    flat_radius : float
+        Radius ``b`` of the flat face [m] (0 gives a sphere of radius ``edge_radius``).
+    edge_radius : float
+        Radius of curvature ``Rc`` of the rounded edge [m].
+    """
+
+    flat_radius: float
+    edge_radius: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "flat_radius", check_non_negative(self.flat_radius, name="flat_radius", unit="m"))
+        object.__setattr__(self, "edge_radius", check_positive(self.edge_radius, name="edge_radius", unit="m"))
+
+    def height(self, x1, x2):
+        excess = np.maximum(np.hypot(x1, x2) - self.flat_radius, 0.0)
+        return excess**2 / (2 * self.edge_radius)
+
+
+@dataclass(frozen=True)
+class Cylinder(Indenter):
+    """Rigid cylinder lying on the surface (parabolic profile across its axis).
+
+    Parameters
+    ----------
+    radius : float
+        Cylinder radius [m].
+    axis : int
+        Surface axis the cylinder lies along: 0 (x1) or 1 (x2).
+    """
+
+    radius: float
+    axis: int = 1
+
+    def __post_init__(self):
+        object.__setattr__(self, "radius", check_positive(self.radius, name="radius", unit="m"))
+        if self.axis not in (0, 1):
+            raise ParameterError(f"axis must be 0 (along x1) or 1 (along x2), got {self.axis!r}")
+
+    def height(self, x1, x2):
+        across = np.asarray(x2 if self.axis == 0 else x1)
+        return across**2 / (2 * self.radius)
+
+
+@dataclass(frozen=True)
+class HeightMap(Indenter):
+    """Rigid body of any shape, from an array on the grid or a function.
+
+    Parameters
+    ----------
+    heights : ndarray or callable
+        Heights [m] on the grid's cells (shape ``(n1, n2)``), or a function
+        ``heights(x1, x2)`` of the cell-centre coordinates [m]. Heights are used
+        as given: the approach is measured from their zero level.
+    """
+
+    heights: object = field(repr=False)
+
+    def __post_init__(self):
+        if not callable(self.heights):
+            object.__setattr__(self, "heights_array",
+                               check_finite_array(self.heights, name="heights", ndim=2))
+
+    def height(self, x1, x2):
+        if callable(self.heights):
+            return np.asarray(self.heights(x1, x2), dtype=float)
+        if np.shape(x1) != self.heights_array.shape:
+            raise ShapeError(f"heights has shape {self.heights_array.shape}, the grid has shape {np.shape(x1)}")
+        return self.heights_array
+

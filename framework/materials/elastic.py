@@ -1,0 +1,44 @@
+"""Isotropic linear elastic solid."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import check_poisson, check_positive
+from .base import ComplianceSeries
+
+
+@dataclass(frozen=True)
+class Elastic:
+    """Isotropic linear elastic material.
+
+    Parameters
+    ----------
+    young : float
+        Young's modulus [Pa].
+    poisson : float
+        Poisson ratio, in (-1, 0.5].
+    """
+
+    young: float
+    poisson: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "young", check_positive(self.young, name="young", unit="Pa"))
+        object.__setattr__(self, "poisson", check_poisson(self.poisson))
+
+    @property
+    def contact_modulus(self):
+        """Plane-strain modulus ``E* = E / (1 - nu^2)`` against a rigid body [Pa]."""
+        return self.young / (1.0 - self.poisson**2)
+
+    def relaxation(self, t):
+        """Relaxation modulus ``E(t) = E`` [Pa]."""
+        return np.full(np.shape(t), self.young)
+
+    def creep(self, t):
+        """Creep compliance ``J(t) = 1/E`` [1/Pa]."""
+        return np.full(np.shape(t), 1.0 / self.young)
+
+    def contact_compliance(self):
+        """The contact compliance ``C* = (1 - nu^2)/E`` as a series without terms."""
+        return ComplianceSeries(c0=1.0 / self.contact_modulus)

@@ -1,0 +1,6 @@
+"""Half-space operators: each builds its kernel spectrum once and exposes ``apply``."""
+from .convolution import Convolution
+from .stress import SubsurfaceStress
+from .surface import SurfaceCompliance
+
+__all__ = ["Convolution", "SubsurfaceStress", "SurfaceCompliance"]

@@ -1,0 +1,114 @@
+"""Subsurface stresses of the half-space under a surface pressure."""
+import numpy as np
+
+from .. import fft
+from ..errors import ParameterError
+from .convolution import Convolution, wrapped_offsets
+from .kernels import subsurface_stress
+
+VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
+# Love's kernels are even or odd in each offset, so each spectrum is real or imaginary:
+# xx, yy, zz (even, even) and xy (odd, odd) real; yz (even, odd) and xz (odd, even) imaginary.
+_PHASE = np.array([1, 1, 1, 1j, 1j, 1])[:, None, None]
+_REAL = _PHASE.imag == 0
+
+
+class SubsurfaceStress:
+    """Stress tensor at given depths from a surface pressure (homogeneous half-space).
+
+    Non-periodic grids use Love's closed-form coefficients of a uniformly loaded
+    rectangle (Love 1929; Johnson 1985) at every depth, one DC-FFT per depth and
+    component (Liu, Wang & Liu 2000). Doubly periodic grids use the exact
+    Fourier-mode solution: each mode of wavevector ``q`` is a plane-strain field
+    in the plane of ``q`` and ``x3`` (sinusoidal pressure on a half-space, Johnson 1985 ch. 2):
+    ``s_nn = -(1 - k z) e^{-kz}``, ``s_zz = -(1 + k z) e^{-kz}``,
+    ``s_nz = i k z e^{-kz}``, ``s_tt = nu (s_nn + s_zz)`` per unit pressure,
+    ``k = |q|``; the mean pressure gives ``s_zz = -p`` and the angular mean
+    ``s_11 = s_22 = -(1 + 2 nu) p / 2``.
+
+    Kernel spectra are cached per depth while they fit in ``cache_bytes``.
+
+    Parameters
+    ----------
+    grid : framework.Grid
+        The surface grid (its layers give the default depths).
+    poisson : float
+        Poisson ratio of the half-space (the stresses from a pressure do not
+        depend on the modulus).
+    cache_bytes : int
+        Memory allowed for cached kernel spectra [bytes].
+    """
+
+    def __init__(self, grid, poisson, cache_bytes=2 * 1024**3):
+        if sum(grid.periodic) == 1:
+            raise ParameterError(
+                f"subsurface stresses need both surface axes periodic or neither, got periodic={grid.periodic}; "
+                "use a doubly periodic grid (e.g. periodic=(True, True)) for line contacts with stresses")
+        self.grid = grid
+        self.poisson = float(poisson)
+        self.cache_bytes = cache_bytes
+        self._cache = {}
+        self._convolution = None if all(grid.periodic) else Convolution(
+            np.zeros((2 * grid.shape[0], grid.shape[1] + 1)), grid.shape, grid.periodic)
+
+    def _love_spectrum(self, depth):
+        spectrum = self._cache.get(depth)
+        if spectrum is not None:
+            return spectrum
+        (n1, n2), (dx1, dx2) = self.grid.shape, self.grid.spacing
+        o1 = np.nan_to_num(wrapped_offsets(n1, dx1, False))
+        o2 = np.nan_to_num(wrapped_offsets(n2, dx2, False))
+        offsets1, offsets2 = np.meshgrid(o1, o2, indexing="ij")
+        kernel = subsurface_stress(offsets1, offsets2, depth, half1=dx1 / 2, half2=dx2 / 2, poisson=self.poisson)
+        kernel = np.moveaxis(kernel, -1, 0)
+        kernel[:, n1, :] = 0.0
+        kernel[:, :, n2] = 0.0
+        full = fft.rfft2(np.ascontiguousarray(kernel))
+        spectrum = np.where(_REAL, full.real, full.imag)
+        if (len(self._cache) + 1) * spectrum.nbytes <= self.cache_bytes:
+            self._cache[depth] = spectrum
+        return spectrum
+
+    def _periodic_modes(self, depth):
+        (n1, n2), (dx1, dx2) = self.grid.shape, self.grid.spacing
+        q1, q2 = np.meshgrid(2 * np.pi * np.fft.fftfreq(n1, dx1), 2 * np.pi * np.fft.rfftfreq(n2, dx2), indexing="ij")
+        k = np.hypot(q1, q2)
+        safe = np.where(k > 0, k, 1.0)
+        n1c, n2c = q1 / safe, q2 / safe
+        decay = np.exp(-k * depth)
+        s_nn = -(1 - k * depth) * decay
+        s_zz = -(1 + k * depth) * decay
+        s_nz = 1j * k * depth * decay
+        s_tt = self.poisson * (s_nn + s_zz)
+        modes = np.array([s_nn * n1c**2 + s_tt * n2c**2, s_nn * n2c**2 + s_tt * n1c**2, s_zz,
+                          s_nz * n2c, s_nz * n1c, (s_nn - s_tt) * n1c * n2c])
+        modes[:, 0, 0] = [-(1 + 2 * self.poisson) / 2, -(1 + 2 * self.poisson) / 2, -1, 0, 0, 0]
+        return modes
+
+    def apply(self, pressure, depths=None):
+        """Stresses [Pa], shape ``(n1, n2, n_depths, 6)`` in Voigt order xx yy zz yz xz xy.
+
+        Parameters
+        ----------
+        pressure : ndarray
+            Surface pressure ``(n1, n2)`` [Pa], compressive positive.
+        depths : array_like, optional
+            Depths ``x3 >= 0`` [m]; default the grid's layer centres.
+        """
+        depths = self.grid.x3 if depths is None else np.atleast_1d(np.asarray(depths, dtype=float))
+        if np.any(depths < 0) or not np.all(np.isfinite(depths)):
+            raise ParameterError(f"depths must be finite and >= 0 [m], got {depths!r}")
+        n1, n2 = self.grid.shape
+        out = np.empty((n1, n2, depths.size, 6))
+        if all(self.grid.periodic):
+            p_hat = fft.rfft2(np.asarray(pressure, dtype=float))
+            for j, depth in enumerate(depths):
+                out[:, :, j, :] = np.moveaxis(fft.irfft2(self._periodic_modes(depth) * p_hat, (n1, n2)), 0, -1)
+            return out
+        p_hat = self._convolution.transform(pressure)
+        m_shape = self._convolution.fft_shape
+        for j, depth in enumerate(depths):
+            spectrum = self._love_spectrum(float(depth)) * _PHASE
+            full = fft.irfft2(spectrum * p_hat, m_shape)
+            out[:, :, j, :] = np.moveaxis(full[:, :n1, :n2], 0, -1)
+        return out

@@ -1,0 +1,194 @@
+"""What a run returns: per-step series and fields, subsurface stresses on demand."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._version import __version__
+from .errors import ParameterError, ShapeError
+from .operators.kernels import subsurface_stress
+from .operators.stress import SubsurfaceStress
+
+
+@dataclass
+class StepRecord:
+    """One recorded step (SI units)."""
+
+    index: int
+    time: float
+    load: float
+    approach: float
+    pressure: np.ndarray
+    displacement: np.ndarray
+    gap: np.ndarray
+    iterations: int
+    residual: float
+    success: bool
+    tilt: tuple = (0.0, 0.0)
+
+
+class Result:
+    """Series (one value per step) and fields of a run.
+
+    Series: ``times`` [s], ``load`` [N], ``approach`` [m], ``contact_area`` [m^2],
+    ``contact_radius`` [m] (of the disc of the same area), ``max_pressure`` [Pa],
+    ``center`` (n, 2) load centre [m], ``tilt`` (n, 2) [rad],
+    ``friction_coefficient`` and ``torque`` [N m] (zero without motion),
+    ``iterations`` and ``residual`` of each solve.
+    Fields: :meth:`pressure`, :meth:`displacement`, :meth:`gap` on the surface;
+    :meth:`stress`, :meth:`von_mises`, :meth:`stress_at` below it. With a
+    constant Poisson ratio the stresses depend on the current pressure only,
+    so they are computed when asked for.
+    """
+
+    def __init__(self, grid, material, indenter, schedule, options):
+        self.grid, self.material, self.indenter = grid, material, indenter
+        self.schedule, self.options = schedule, options
+        self.version = __version__
+        self.records = []
+        self._stress_operator = None
+        self._stress_cache = (None, None)
+
+    def append(self, record):
+        """Add a finished step."""
+        self.records.append(record)
+
+    def __len__(self):
+        return len(self.records)
+
+    def _series(self, name):
+        return np.array([getattr(r, name) for r in self.records], dtype=float)
+
+    times = property(lambda self: self._series("time"))
+    load = property(lambda self: self._series("load"))
+    approach = property(lambda self: self._series("approach"))
+    iterations = property(lambda self: self._series("iterations").astype(int))
+    residual = property(lambda self: self._series("residual"))
+    tilt = property(lambda self: np.array([r.tilt for r in self.records], dtype=float).reshape(-1, 2))
+
+    @property
+    def contact_area(self):
+        """Area of the cells in contact [m^2]."""
+        return np.array([np.count_nonzero(r.pressure > 0) for r in self.records]) * self.grid.cell_area
+
+    @property
+    def contact_radius(self):
+        """Radius of the disc with the contact area [m]."""
+        return np.sqrt(self.contact_area / np.pi)
+
+    @property
+    def max_pressure(self):
+        """Peak pressure [Pa]."""
+        return np.array([r.pressure.max() for r in self.records])
+
+    @property
+    def center(self):
+        """Load centre ``sum p x dA / W`` [m], shape (n, 2)."""
+        x1, x2 = self.grid.coordinates()
+        rows = []
+        for r in self.records:
+            total = r.pressure.sum()
+            rows.append((np.nan, np.nan) if total == 0 else
+                        ((r.pressure * x1).sum() / total, (r.pressure * x2).sum() / total))
+        return np.array(rows, dtype=float).reshape(-1, 2)
+
+    @property
+    def friction_coefficient(self):
+        """Apparent friction coefficient (zero for indentation without motion)."""
+        return np.zeros(len(self.records))
+
+    @property
+    def torque(self):
+        """Resisting torque [N m] (zero for indentation without motion)."""
+        return np.zeros(len(self.records))
+
+    def _record(self, step):
+        if not isinstance(step, (int, np.integer)) or not -len(self.records) <= step < len(self.records):
+            raise ParameterError(f"step must be an integer index in [-{len(self.records)}, {len(self.records)}), "
+                                 f"got {step!r}")
+        return self.records[step]
+
+    def pressure(self, step):
+        """Contact pressure [Pa], shape (n1, n2)."""
+        return self._record(step).pressure
+
+    def displacement(self, step):
+        """Normal surface displacement [m], positive into the solid, shape (n1, n2)."""
+        return self._record(step).displacement
+
+    def gap(self, step):
+        """Gap between the indenter and the deformed surface [m], shape (n1, n2)."""
+        return self._record(step).gap
+
+    def _operator(self):
+        if self._stress_operator is None:
+            self._stress_operator = SubsurfaceStress(self.grid, self.material.poisson)
+        return self._stress_operator
+
+    def stress(self, step):
+        """Stress [Pa] at the layer centres, shape (n1, n2, layers, 6), Voigt xx yy zz yz xz xy."""
+        record = self._record(step)
+        if not self.grid.layers:
+            raise ParameterError("stress needs subsurface layers: the grid has layers=0; "
+                                 "give Grid(..., depth=..., layers=...)")
+        key, value = self._stress_cache
+        if key != record.index:
+            value = self._operator().apply(record.pressure)
+            self._stress_cache = (record.index, value)
+        return value
+
+    def von_mises(self, step):
+        """Von Mises equivalent stress [Pa], shape (n1, n2, layers)."""
+        return von_mises(self.stress(step))
+
+    def stress_at(self, step, points):
+        """Stress [Pa] at arbitrary points, shape (n, 6), by direct summation over the cells.
+
+        Parameters
+        ----------
+        step : int
+            Step index.
+        points : array_like
+            ``(n, 3)`` coordinates ``(x1, x2, x3)`` [m] with ``x3 >= 0`` inside the
+            subsurface box (``|x1| <= L1/2``, ``|x2| <= L2/2``, ``x3 <= depth``).
+        """
+        pressure = self._record(step).pressure
+        points = np.asarray(points, dtype=float)
+        if points.ndim != 2 or points.shape[1] != 3:
+            raise ShapeError(f"points must have shape (n, 3), got {points.shape}")
+        grid = self.grid
+        depth = grid.depth if grid.depth is not None else 0.0
+        outside = (np.abs(points[:, 0]) > grid.size[0] / 2) | (np.abs(points[:, 1]) > grid.size[1] / 2) \
+            | (points[:, 2] < 0) | (points[:, 2] > depth)
+        if outside.any():
+            raise ParameterError(f"points must lie inside the subsurface box |x1| <= {grid.size[0] / 2:g}, "
+                                 f"|x2| <= {grid.size[1] / 2:g}, 0 <= x3 <= {depth:g} m; got "
+                                 f"{points[np.argmax(outside)].tolist()}")
+        if any(grid.periodic):
+            raise ParameterError(f"stress_at sums over the cells of a non-periodic grid, got periodic={grid.periodic}")
+        loaded = pressure > 0
+        x1, x2 = (c[loaded] for c in grid.coordinates())
+        p = pressure[loaded]
+        dx1, dx2 = grid.spacing
+        out = np.empty((points.shape[0], 6))
+        for i, (y1, y2, y3) in enumerate(points):
+            coefficients = subsurface_stress(y1 - x1, y2 - x2, y3, half1=dx1 / 2, half2=dx2 / 2,
+                                             poisson=self.material.poisson)
+            out[i] = p @ coefficients
+        return out
+
+    def summary(self):
+        """Per-step scalar table as a dict of arrays."""
+        center = self.center
+        return {"time": self.times, "load": self.load, "approach": self.approach,
+                "contact_area": self.contact_area, "contact_radius": self.contact_radius,
+                "max_pressure": self.max_pressure, "center_x1": center[:, 0], "center_x2": center[:, 1],
+                "tilt_x1": self.tilt[:, 0], "tilt_x2": self.tilt[:, 1],
+                "friction_coefficient": self.friction_coefficient, "torque": self.torque,
+                "iterations": self.iterations, "residual": self.residual}
+
+
+def von_mises(stress):
+    """Von Mises stress of Voigt-ordered stresses ``(..., 6)`` [Pa]."""
+    s11, s22, s33, s23, s13, s12 = np.moveaxis(stress, -1, 0)
+    return np.sqrt(0.5 * ((s11 - s22) ** 2 + (s22 - s33) ** 2 + (s33 - s11) ** 2)
+                   + 3.0 * (s12**2 + s13**2 + s23**2))

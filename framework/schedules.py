@@ -1,0 +1,69 @@
+"""Motion schedules: data describing what happens to the indenter, not code."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import loads
+from ._validation import check_finite_array
+from .errors import ParameterError
+
+
+def _as_history(value, times, name):
+    if isinstance(value, loads.History):
+        return value
+    array = np.atleast_1d(np.asarray(value, dtype=float)) if not isinstance(value, str) else None
+    if array is None or array.ndim != 1:
+        raise ParameterError(f"{name} must be a number, a sequence of numbers or a loads history, got {value!r}")
+    if array.size == 1:
+        return loads.Step(float(array[0]))
+    if times is None or len(times) != array.size:
+        raise ParameterError(f"{name} has {array.size} values but times has "
+                             f"{'no' if times is None else len(times)} entries; give one time per value")
+    return loads.Table(times=times, values=array)
+
+
+@dataclass(frozen=True)
+class Static:
+    """Indentation along the surface normal under a load or an approach history.
+
+    Parameters
+    ----------
+    load : float, sequence or loads.History, optional
+        Total normal load [N]: a constant (applied at t = 0), one value per
+        time, or a history.
+    approach : float, sequence or loads.History, optional
+        Rigid approach [m], the same forms; give ``load`` or ``approach``.
+    times : array_like, optional
+        Output times [s], strictly increasing, >= 0. Default: ``0, 1, 2, ...``
+        one per value of a sequence, or ``[0]`` for a constant.
+    """
+
+    load: object = None
+    approach: object = None
+    times: object = None
+
+    def __post_init__(self):
+        if (self.load is None) == (self.approach is None):
+            raise ParameterError(f"give exactly one of load and approach, got load={self.load!r}, "
+                                 f"approach={self.approach!r}")
+        value = self.load if self.load is not None else self.approach
+        times = self.times
+        if times is None:
+            size = 1 if isinstance(value, loads.History) else np.size(value)
+            times = np.arange(size, dtype=float)
+        times = check_finite_array(times, name="times", ndim=1)
+        if times.size == 0:
+            raise ParameterError("times must hold at least one time, got an empty array")
+        loads.check_increasing(times, name="times")
+        history = _as_history(value, times, self.control)
+        probe = np.concatenate([times, np.asarray(history.jumps, dtype=float)])
+        values = np.concatenate([history(probe), history.left(probe)])
+        if np.any(values < 0):
+            raise ParameterError(f"{self.control} must be >= 0 at every time, got {values[values < 0][0]!r}")
+        object.__setattr__(self, "times", times)
+        object.__setattr__(self, "history", history)
+
+    @property
+    def control(self):
+        """``"load"`` or ``"approach"``."""
+        return "load" if self.load is not None else "approach"

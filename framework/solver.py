@@ -1,0 +1,156 @@
+"""Polonsky & Keer conjugate-gradient solver of the normal contact problem.
+
+Polonsky & Keer, Wear 231 (1999) 206-219. The unknown is the pressure ``p >= 0``
+on the grid; the gap is ``g = b + A p - delta`` with ``b`` the initial
+separation (indenter height plus any known displacement), ``A`` the
+displacement operator (symmetric, positive) and ``delta`` the rigid approach.
+Complementarity: ``p > 0 => g = 0`` and ``p = 0 => g >= 0``.
+
+Under load control ``sum p dA = W`` and ``delta`` is the mean of ``b + A p``
+over the contact set (the projection that keeps the load); under approach
+control ``delta`` is given.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ConvergenceError
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Tolerances of the contact solver.
+
+    Parameters
+    ----------
+    tolerance : float
+        Relative L1 change of the pressure between two iterations.
+    residual_tolerance : float
+        Complementarity residual: the largest gap in the contact set and the
+        largest interpenetration outside it, relative to the largest displacement.
+    max_iterations : int
+        Iterations before the solve is declared stalled.
+    raise_on_failure : bool
+        Raise :class:`ConvergenceError` when the solve does not converge (else
+        return the result with ``success = False``).
+    """
+
+    tolerance: float = 1e-8
+    residual_tolerance: float = 1e-6
+    max_iterations: int = 2000
+    raise_on_failure: bool = True
+
+
+@dataclass
+class ContactSolution:
+    """Outcome of one normal contact solve (SI units)."""
+
+    pressure: np.ndarray      # [Pa]
+    displacement: np.ndarray  # A p [m], positive into the solid
+    gap: np.ndarray           # b + A p - delta [m]
+    approach: float           # delta [m]
+    load: float               # sum p dA [N]
+    iterations: int
+    residual: float
+    pressure_change: float
+    success: bool
+
+
+def _residual(gap, contact, displacement):
+    scale = max(np.abs(displacement).max(), np.finfo(float).tiny)
+    inside = np.abs(gap[contact]).max(initial=0.0)
+    outside = max(0.0, -gap[~contact].min(initial=0.0))
+    return max(inside, outside) / scale
+
+
+def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initial=None,
+                 options=SolverOptions()):
+    """Solve the frictionless normal contact by conjugate gradients.
+
+    Parameters
+    ----------
+    apply : callable
+        ``apply(p)`` returns the displacement [m] of the pressure field ``p`` [Pa].
+    base_gap : ndarray
+        Separation ``b`` [m] before the approach and the displacement of ``p``.
+    cell_area : float
+        Area of one cell [m^2].
+    load : float, optional
+        Total load ``W`` [N] (load control).
+    approach : float, optional
+        Rigid approach ``delta`` [m] (approach control).
+    initial : ndarray, optional
+        Starting pressure (warm start), e.g. the previous step's.
+    options : SolverOptions
+        Tolerances.
+
+    Returns
+    -------
+    ContactSolution
+    """
+    base_gap = np.asarray(base_gap, dtype=float)
+    load_control = load is not None
+    touch = base_gap.min()
+    if (load_control and load == 0.0) or (not load_control and approach <= touch):
+        zero = np.zeros_like(base_gap)
+        delta = touch if load_control else approach
+        return ContactSolution(zero, zero.copy(), base_gap - delta, delta, 0.0, 0, 0.0, 0.0, True)
+
+    if initial is not None and np.any(initial > 0):
+        pressure = np.array(initial, dtype=float)
+    elif load_control:
+        pressure = np.full(base_gap.shape, load / (base_gap.size * cell_area))
+    else:  # the interpenetration, scaled so that its displacement matches it at the peak
+        pressure = np.maximum(approach - base_gap, 0.0)
+        pressure *= (approach - touch) / apply(pressure).max()
+    if load_control:
+        pressure *= load / (pressure.sum() * cell_area)
+
+    direction = np.zeros_like(pressure)
+    norm_old, conjugate = 1.0, False
+    change = np.inf
+    for iteration in range(options.max_iterations + 1):
+        displacement = apply(pressure)
+        gap = base_gap + displacement
+        contact = pressure > 0
+        delta = gap[contact].mean() if load_control else approach
+        gap -= delta
+        residual = _residual(gap, contact, displacement)
+        if change < options.tolerance and residual < options.residual_tolerance:
+            break
+        if iteration == options.max_iterations:
+            break
+        gap_c = np.where(contact, gap, 0.0)
+        norm = np.dot(gap_c.ravel(), gap_c.ravel())
+        direction = np.where(contact, gap + (norm / norm_old if conjugate else 0.0) * direction, 0.0)
+        norm_old = norm
+        response = apply(direction)
+        if load_control:
+            response -= response[contact].mean()
+        curvature = np.dot(np.where(contact, response, 0.0).ravel(), direction.ravel())
+        step = np.dot(gap_c.ravel(), direction.ravel()) / curvature if curvature > 0 else 0.0
+        previous = pressure
+        pressure = np.maximum(previous - step * direction, 0.0)
+        # Re-entry (Polonsky & Keer): free cells that interpenetrate join the contact set.
+        overlap = (pressure == 0) & (gap < 0)
+        conjugate = not overlap.any()
+        if not conjugate:
+            pressure[overlap] -= step * gap[overlap]
+        if load_control:
+            total = pressure.sum() * cell_area
+            if total <= 0:
+                pressure = np.where(gap < 0, -gap, 0.0) + previous * 0.5
+                total = pressure.sum() * cell_area
+            pressure *= load / total
+        change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
+
+    success = change < options.tolerance and residual < options.residual_tolerance
+    solution = ContactSolution(pressure, displacement, gap, float(delta), float(pressure.sum() * cell_area),
+                               iteration, float(residual), float(change), bool(success))
+    if not success and options.raise_on_failure:
+        raise ConvergenceError(
+            f"contact solver stopped after {iteration} iterations with pressure change {change:.3g} "
+            f"(tolerance {options.tolerance:g}) and complementarity residual {residual:.3g} "
+            f"(tolerance {options.residual_tolerance:g}); raise max_iterations or loosen the tolerances",
+            result=solution)
+    return solution
