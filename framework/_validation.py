@@ -61,5 +61,5 @@ def check_finite_array(array, *, name, shape=None, ndim=None):
     if not np.all(np.isfinite(array)):
         bad = np.argwhere(~np.isfinite(array))[0]
         raise ParameterError(
-            f"{name} must be finite everywhere, got {array[tuple(bad)]!r} at index {tuple(int(i) for i in bad)}")
+            f"{name} must be finite everywhere, got {float(array[tuple(bad)])!r} at index {tuple(int(i) for i in bad)}")
     return array

@@ -128,10 +128,10 @@ def check_increasing(times, *, name):
     """Raise unless ``times`` are >= 0 and strictly increasing."""
     times = np.asarray(times, dtype=float)
     if np.any(times < 0):
-        raise ParameterError(f"{name} must be >= 0 [s], got {times[times < 0][0]!r}")
+        raise ParameterError(f"{name} must be >= 0 [s], got {float(times[times < 0][0])!r}")
     steps = np.diff(times)
     if np.any(steps <= 0):
         i = int(np.argmax(steps <= 0))
-        raise ParameterError(f"{name} must be strictly increasing, got {times[i]!r} followed by {times[i + 1]!r} "
+        raise ParameterError(f"{name} must be strictly increasing, got {float(times[i])!r} followed by {float(times[i + 1])!r} "
                              f"at index {i + 1}")
     return times

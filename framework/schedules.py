@@ -59,7 +59,7 @@ class Static:
         probe = np.concatenate([times, np.asarray(history.jumps, dtype=float)])
         values = np.concatenate([history(probe), history.left(probe)])
         if np.any(values < 0):
-            raise ParameterError(f"{self.control} must be >= 0 at every time, got {values[values < 0][0]!r}")
+            raise ParameterError(f"{self.control} must be >= 0 at every time, got {float(values[values < 0][0])!r}")
         object.__setattr__(self, "times", times)
         object.__setattr__(self, "history", history)
 

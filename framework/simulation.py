@@ -195,5 +195,6 @@ def _check_edges(pressure, grid, time, value, control):
         edges.append("x2 = +/-%g m" % (grid.size[1] / 2))
     if edges:
         raise GridTooSmallError(
-            f"the contact reaches the grid edge ({', '.join(edges)}) at t = {time:g} s under {control} = {value:g}; "
+            f"the contact reaches the grid edge ({', '.join(edges)}) at t = {time:g} s under {control} = {value:g} "
+            f"{'N' if control == 'load' else 'm'}; "
             f"the grid of size {grid.size} m cannot carry it: enlarge size or lower the {control}")

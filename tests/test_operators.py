@@ -1,0 +1,165 @@
+"""Half-space operators: DC-FFT against direct sums, symmetry, balance, backends."""
+import numpy as np
+import pytest
+
+import framework as fw
+from framework import fft
+from framework.operators import SubsurfaceStress, SurfaceCompliance
+from framework.operators.kernels import subsurface_stress, surface_displacement
+
+RNG = np.random.default_rng(0)
+
+
+def direct_surface(grid, pressure):
+    x1, x2 = grid.coordinates()
+    dx1, dx2 = grid.spacing
+    out = np.zeros(grid.shape)
+    for (i, j), p in np.ndenumerate(pressure):
+        out += p * surface_displacement(x1 - x1[i, j], x2 - x2[i, j], half1=dx1 / 2, half2=dx2 / 2)
+    return out
+
+
+def direct_stress(grid, pressure, depth, poisson):
+    x1, x2 = grid.coordinates()
+    dx1, dx2 = grid.spacing
+    out = np.zeros(grid.shape + (6,))
+    for (i, j), p in np.ndenumerate(pressure):
+        out += p * subsurface_stress(x1 - x1[i, j], x2 - x2[i, j], depth, half1=dx1 / 2, half2=dx2 / 2,
+                                     poisson=poisson)
+    return out
+
+
+@pytest.mark.parametrize("shape", [(7, 10), (8, 8), (9, 5)])
+def test_dcfft_equals_direct_linear_convolution(shape):
+    grid = fw.Grid(shape=shape, size=(1.3e-3, 0.7e-3))
+    pressure = RNG.random(shape)
+    direct = direct_surface(grid, pressure)
+    assert np.abs(SurfaceCompliance(grid).apply(pressure) - direct).max() <= 1e-12 * np.abs(direct).max()
+
+
+@pytest.mark.parametrize("shape", [(7, 6), (8, 9)])
+def test_stress_dcfft_equals_direct_sum(shape):
+    grid = fw.Grid(shape=shape, size=(1e-3, 1.5e-3), depth=0.6e-3, layers=3)
+    pressure = RNG.random(shape)
+    stress = SubsurfaceStress(grid, 0.3).apply(pressure)
+    for k, depth in enumerate(grid.x3):
+        direct = direct_stress(grid, pressure, depth, 0.3)
+        assert np.abs(stress[:, :, k] - direct).max() <= 1e-12 * np.abs(direct).max()
+
+
+@pytest.mark.parametrize("periodic", [(False, False), (True, True), (False, True), (True, False)])
+def test_surface_operator_is_symmetric(periodic):
+    grid = fw.Grid(shape=(12, 9), size=(1.0, 0.8), periodic=periodic)
+    operator = SurfaceCompliance(grid)
+    p, q = RNG.random(grid.shape), RNG.random(grid.shape)
+    left, right = np.vdot(q, operator.apply(p)), np.vdot(p, operator.apply(q))
+    assert abs(left - right) <= 1e-12 * abs(left)
+
+
+@pytest.mark.parametrize("periodic", [(False, False), (True, True), (False, True)])
+def test_surface_operator_is_positive(periodic):
+    """The compliance is positive definite on fields that it does not shift (mean-free when periodic)."""
+    grid = fw.Grid(shape=(10, 8), size=(1.0, 1.0), periodic=periodic)
+    operator = SurfaceCompliance(grid)
+    for _ in range(5):
+        p = RNG.standard_normal(grid.shape)
+        if any(periodic):
+            p -= p.mean()
+        assert np.vdot(p, operator.apply(p)) > 0
+
+
+def test_periodic_kernel_of_a_mode_is_two_over_q():
+    """Doubly periodic: a cosine of wavenumber k gives u = (2/k) p (Westergaard)."""
+    grid = fw.Grid(shape=(32, 4), size=(2.0, 0.25), periodic=(True, True))
+    x1, _ = grid.coordinates()
+    k = 2 * np.pi * 3 / 2.0
+    u = SurfaceCompliance(grid).apply(np.cos(k * x1))
+    assert np.allclose(u, 2 / k * np.cos(k * x1), atol=1e-13)
+
+
+def test_one_periodic_axis_cosine_along_open_axis_is_plane_strain():
+    """Periodic along x2, p = exp(-(x1/s)^2) cos(k x1) on a long strip: u -> (2/k) cos(k x1) at the centre.
+
+    The envelope's curvature adds O(1/(k s)^2): the error must fall fourfold when s doubles.
+    """
+    grid = fw.Grid(shape=(8192, 2), size=(128.0, 1.0), periodic=(False, True))
+    x1, _ = grid.coordinates()
+    k = 2 * np.pi  # 64 cells per wavelength: the piecewise-constant sinc factor is 0.9996
+    centre = np.abs(x1) < 1
+    errors = []
+    for width in (12.0, 24.0):
+        u = SurfaceCompliance(grid).apply(np.exp(-(x1 / width) ** 2) * np.cos(k * x1))
+        errors.append(np.abs(u[centre] - 2 / k * np.cos(k * x1[centre])).max() / (2 / k))
+    assert errors[1] < 3e-3
+    assert 3.0 < errors[0] / errors[1] < 5.0
+
+
+def test_transposed_mixed_periodicity_is_the_transpose():
+    a = fw.Grid(shape=(20, 6), size=(2.0, 0.6), periodic=(False, True))
+    b = fw.Grid(shape=(6, 20), size=(0.6, 2.0), periodic=(True, False))
+    p = RNG.random(a.shape)
+    assert np.allclose(SurfaceCompliance(a).apply(p), SurfaceCompliance(b).apply(p.T).T, rtol=1e-12, atol=0)
+
+
+def test_periodic_stress_balance_and_surface_traction():
+    """Mean s33 over a period equals -mean pressure at every depth; s33(0) = -p."""
+    grid = fw.Grid(shape=(16, 12), size=(1.0, 1.0), depth=0.5, layers=5, periodic=(True, True))
+    p = RNG.random(grid.shape)
+    stress = SubsurfaceStress(grid, 0.25).apply(p, depths=np.r_[0.0, grid.x3])
+    assert np.allclose(stress[..., 2].mean(axis=(0, 1)), -p.mean(), rtol=1e-12)
+    assert np.allclose(stress[:, :, 0, 2], -p, atol=1e-12)
+    assert np.allclose(stress[:, :, 0, 3:5], 0.0, atol=1e-12)
+
+
+def test_periodic_stress_matches_love_for_a_small_load_in_a_large_period():
+    """Far from the images, the doubly periodic stresses approach the non-periodic ones."""
+    n = 64
+    open_grid = fw.Grid(shape=(n, n), size=(1.0, 1.0))
+    periodic = fw.Grid(shape=(n, n), size=(1.0, 1.0), periodic=(True, True))
+    x1, x2 = open_grid.coordinates()
+    p = np.where(np.hypot(x1, x2) < 0.05, 1.0, 0.0)
+    depths = [0.02, 0.05]
+    reference = SubsurfaceStress(open_grid, 0.3).apply(p, depths=depths)
+    candidate = SubsurfaceStress(periodic, 0.3).apply(p, depths=depths)
+    near = np.hypot(x1, x2) < 0.1
+    # The periodic field differs by the images and by the mean-pressure convention, O((a/L)^2) here.
+    assert np.abs(candidate[near] - reference[near]).max() < 0.02
+
+
+@pytest.mark.skipif("pyfftw" not in fft.available_backends(), reason="pyFFTW not installed")
+@pytest.mark.parametrize("periodic", [(False, False), (True, True)])
+def test_backends_agree(periodic):
+    grid = fw.Grid(shape=(30, 17), size=(1.0, 1.0), depth=0.3, layers=2, periodic=periodic)
+    p = RNG.random(grid.shape)
+    out = {}
+    for backend in fft.available_backends():
+        with fft.use_backend(backend):
+            out[backend] = (SurfaceCompliance(grid).apply(p), SubsurfaceStress(grid, 0.3).apply(p))
+    for a, b in zip(out["pyfftw"], out["scipy"]):
+        assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max()
+
+
+def test_scipy_backend_runs_a_contact():
+    """The fallback path solves a contact alone (as on a machine without pyFFTW)."""
+    grid = fw.Grid(shape=(32, 32), size=(1e-3, 1e-3))
+    sim = fw.Simulation(grid=grid, material=fw.materials.Elastic(young=1e9, poisson=0.3),
+                        indenter=fw.indenters.Sphere(radius=5e-3), schedule=fw.schedules.Static(load=1.0))
+    with fft.use_backend("scipy"):
+        scipy_result = sim.run()
+    assert scipy_result.iterations[0] > 0 and abs(scipy_result.load[0] - 1.0) < 1e-12
+    if "pyfftw" in fft.available_backends():
+        with fft.use_backend("pyfftw"):
+            fftw_result = sim.run()
+        assert np.allclose(fftw_result.pressure(0), scipy_result.pressure(0), rtol=0, atol=1e-9 * 
+                           scipy_result.max_pressure[0])
+
+
+def test_unknown_backend_is_rejected():
+    with pytest.raises(fw.errors.ParameterError, match="backend must be one of .* got 'cufft'"):
+        fft.set_backend("cufft")
+
+
+def test_operator_rejects_wrong_shape():
+    operator = SurfaceCompliance(fw.Grid(shape=(8, 6), size=(1.0, 1.0)))
+    with pytest.raises(fw.errors.ShapeError, match=r"\(6, 8\).*\(8, 6\)"):
+        operator.apply(np.zeros((6, 8)))
