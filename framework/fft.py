@@ -85,3 +85,47 @@ def irfft2(spectrum, shape):
         key_shape = spectrum.shape[:-2] + shape + (0,)
         return _plan("inverse", key_shape)(spectrum).copy()
     return scipy.fft.irfftn(spectrum, s=shape, axes=(-2, -1), workers=THREADS)
+
+
+class RealFFTPair:
+    """Forward and inverse real FFT of one fixed 2-D shape, with buffers of its own.
+
+    Write the input into ``real_in`` (what lies outside the written block stays
+    as it is, so zero padding is written once), call :meth:`forward`, work on
+    ``spectrum`` in place, call :meth:`inverse` and read ``real_out``. Nothing
+    is allocated per call: in the solver loop that is most of the cost.
+    """
+
+    def __init__(self, shape):
+        self.shape = tuple(shape)
+        self.backend = _backend
+        spectral = self.shape[:-1] + (self.shape[-1] // 2 + 1,)
+        if _backend == "pyfftw":
+            self.real_in = pyfftw.zeros_aligned(self.shape, dtype="float64")
+            self.spectrum = pyfftw.zeros_aligned(spectral, dtype="complex128")
+            self.real_out = pyfftw.zeros_aligned(self.shape, dtype="float64")
+            flags = ("FFTW_MEASURE", "FFTW_DESTROY_INPUT")
+            self._forward = pyfftw.FFTW(self.real_in, self.spectrum, axes=(-2, -1), flags=flags,
+                                        threads=THREADS)
+            self._inverse = pyfftw.FFTW(self.spectrum, self.real_out, axes=(-2, -1), direction="FFTW_BACKWARD",
+                                        flags=flags, threads=THREADS)
+            self.real_in[...] = 0.0  # planning with FFTW_MEASURE scribbles on the buffers
+        else:
+            self.real_in = np.zeros(self.shape)
+            self.spectrum = np.zeros(spectral, dtype=complex)
+            self.real_out = np.zeros(self.shape)
+
+    def forward(self):
+        """``spectrum <- rfft2(real_in)``."""
+        if self.backend == "pyfftw":
+            self._forward.execute()
+        else:
+            self.spectrum[...] = scipy.fft.rfftn(self.real_in, axes=(-2, -1), workers=THREADS)
+
+    def inverse(self):
+        """``real_out <- irfft2(spectrum)`` (``spectrum`` is destroyed)."""
+        if self.backend == "pyfftw":
+            self._inverse.execute()
+            self.real_out *= 1.0 / (self.shape[-1] * self.shape[-2])
+        else:
+            self.real_out[...] = scipy.fft.irfftn(self.spectrum, s=self.shape[-2:], axes=(-2, -1), workers=THREADS)

@@ -59,6 +59,7 @@ class Convolution:
         if np.iscomplexobj(spectrum) and np.allclose(spectrum.imag, 0.0, atol=1e-14 * np.abs(spectrum).max()):
             spectrum = np.ascontiguousarray(spectrum.real)
         self.spectrum = spectrum
+        self._pair = None
 
     def _pad(self, field):
         if field.shape[-2:] != self.shape:
@@ -80,5 +81,17 @@ class Convolution:
         return full[..., : self.shape[0], : self.shape[1]]
 
     def apply(self, field):
-        """Convolution of ``field`` (shape ``(n1, n2)``) with the kernel(s)."""
-        return self.apply_spectrum(self.transform(field))
+        """Convolution of ``field`` (shape ``(n1, n2)``) with a single kernel, through reused buffers."""
+        if self.spectrum.ndim != 2:
+            return self.apply_spectrum(self.transform(field))
+        if np.shape(field) != self.shape:
+            raise ShapeError(f"field has shape {np.shape(field)}, the operator's grid is {self.shape}")
+        pair = self._pair
+        if pair is None or pair.backend != fft.get_backend():
+            pair = self._pair = fft.RealFFTPair(self.fft_shape)
+        n1, n2 = self.shape
+        pair.real_in[:n1, :n2] = field
+        pair.forward()
+        np.multiply(pair.spectrum, self.spectrum, out=pair.spectrum)
+        pair.inverse()
+        return pair.real_out[:n1, :n2].copy()
