@@ -34,7 +34,8 @@ def machine():
     except (OSError, StopIteration):
         pass
     return (f"{platform.node()} | {cpu} | {os.cpu_count()} cores | Python {platform.python_version()} | "
-            f"numpy {np.__version__} | FFT backend {fft.get_backend()}")
+            f"numpy {np.__version__} | FFT backend {fft.get_backend()} with {fft.THREADS} threads | "
+            f"load average {os.getloadavg()[0]:.2f}")
 
 
 def errors_against_hertz(pressure, cell_area, exact):
@@ -55,7 +56,8 @@ def ours(n, load, tolerance, repeat):
     for _ in range(repeat):
         start = time.perf_counter()
         solution = solve_normal(lambda p: compliance * operator.apply(p), heights, cell_area=grid.cell_area,
-                                load=load, options=options)
+                                load=load, options=options, window=operator.window,
+                                apply_window=lambda f, box: compliance * operator.apply_window(f, box))
         best = min(best, time.perf_counter() - start)
     return dict(time=best, setup=setup, iterations=solution.iterations, pressure=solution.pressure,
                 cell_area=grid.cell_area)
@@ -77,7 +79,9 @@ def main():
     parser.add_argument("--sizes", type=int, nargs="+", default=[256, 512])
     parser.add_argument("--tolerance", type=float, default=1e-10)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--threads", type=int, default=fft.THREADS, help="FFT threads of this project")
     args = parser.parse_args()
+    fft.set_threads(args.threads)
     print(machine())
     contact_modulus = YOUNG / (1 - POISSON**2)
     exact = reference.HertzSphere.from_contact_radius(RADIUS, 0.15 * SIDE, contact_modulus)

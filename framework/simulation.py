@@ -150,7 +150,8 @@ class Simulation:
                 lambda p: compliance * operator.apply(p), heights + history_displacement,
                 cell_area=grid.cell_area, initial=state.pressure,
                 load=value if load_control else None, approach=None if load_control else value,
-                options=options.solver)
+                options=options.solver, window=operator.window,
+                apply_window=lambda field, box: compliance * operator.apply_window(field, box))
             if options.check_edges:
                 _check_edges(solution.pressure, grid, time, value, self.schedule.control)
             pressure = solution.pressure

@@ -163,3 +163,16 @@ def test_operator_rejects_wrong_shape():
     operator = SurfaceCompliance(fw.Grid(shape=(8, 6), size=(1.0, 1.0)))
     with pytest.raises(fw.errors.ShapeError, match=r"\(6, 8\).*\(8, 6\)"):
         operator.apply(np.zeros((6, 8)))
+
+
+def test_windowed_apply_equals_the_full_convolution_on_the_window():
+    grid = fw.Grid(shape=(70, 50), size=(1.0, 1.0))
+    operator = SurfaceCompliance(grid)
+    support = np.zeros(grid.shape, bool)
+    support[20:41, 7:30] = RNG.random((21, 23)) > 0.3
+    field = np.where(support, RNG.random(grid.shape), 0.0)
+    box = operator.window(support)
+    assert all((s.stop - s.start) % 16 == 0 for s in box)
+    assert field[box].sum() == field.sum()
+    full = operator.apply(field)[box]
+    assert np.abs(operator.apply_window(field[box], box) - full).max() <= 1e-12 * np.abs(full).max()

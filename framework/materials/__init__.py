@@ -1,5 +1,8 @@
-"""Material laws: elastic now, viscoelastic Prony series next."""
+"""Material laws: elastic, viscoelastic Prony series and their named special cases."""
 from .base import ComplianceSeries
 from .elastic import Elastic
+from .fitting import PronyFit, fit_prony
+from .viscoelastic import PMMA, FlowComplianceSeries, KelvinVoigt, Maxwell, StandardLinearSolid, Viscoelastic
 
-__all__ = ["ComplianceSeries", "Elastic"]
+__all__ = ["ComplianceSeries", "Elastic", "FlowComplianceSeries", "KelvinVoigt", "Maxwell", "PMMA", "PronyFit",
+           "StandardLinearSolid", "Viscoelastic", "fit_prony"]

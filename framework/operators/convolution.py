@@ -87,7 +87,7 @@ class Convolution:
         if np.shape(field) != self.shape:
             raise ShapeError(f"field has shape {np.shape(field)}, the operator's grid is {self.shape}")
         pair = self._pair
-        if pair is None or pair.backend != fft.get_backend():
+        if pair is None or (pair.backend, pair.threads) != (fft.get_backend(), fft.THREADS):
             pair = self._pair = fft.RealFFTPair(self.fft_shape)
         n1, n2 = self.shape
         pair.real_in[:n1, :n2] = field

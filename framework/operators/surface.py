@@ -36,8 +36,10 @@ class SurfaceCompliance:
     def __init__(self, grid):
         self.grid = grid
         periodic = grid.periodic
+        self._windows = {}
         if not any(periodic):
-            spectrum = fft.rfft2(self._love_kernel(grid))
+            self._kernel = self._love_kernel(grid)
+            spectrum = fft.rfft2(self._kernel)
         elif all(periodic):
             spectrum = self._periodic_spectrum(grid)
         else:
@@ -102,6 +104,44 @@ class SurfaceCompliance:
     def apply(self, pressure):
         """``K * p`` [Pa m] for a pressure field ``(n1, n2)`` [Pa]."""
         return self._convolution.apply(pressure)
+
+    def window(self, support):
+        """Slices of a box holding ``support`` (boolean ``(n1, n2)``), for :meth:`apply_window`.
+
+        The box is padded up to a multiple of 16 cells per side so that a few
+        box shapes (and their kernel spectra) serve a whole solve; a periodic
+        grid always gets the whole grid.
+        """
+        if any(self.grid.periodic) or not support.any():
+            return (slice(None), slice(None))
+        slices = []
+        for axis, n in enumerate(self.grid.shape):
+            used = np.flatnonzero(support.any(axis=1 - axis))
+            size = min(n, -(-(used[-1] - used[0] + 1) // 16) * 16)
+            start = min(max(0, used[0] - (size - (used[-1] - used[0] + 1)) // 2), n - size)
+            slices.append(slice(start, start + size))
+        return tuple(slices)
+
+    def apply_window(self, field, window):
+        """``K * field`` on the box ``window`` for a field that vanishes outside it.
+
+        ``field`` has the box's shape; the result is the exact linear
+        convolution restricted to the box, at the cost of an FFT of twice the
+        box instead of twice the grid.
+        """
+        if window == (slice(None), slice(None)):
+            return self.apply(field)
+        shape = np.shape(field)
+        convolution = self._windows.get(shape)
+        if convolution is None:
+            (n1, n2), (m1, m2) = self.grid.shape, shape
+            rows = np.r_[0:m1, 2 * n1 - m1:2 * n1]
+            cols = np.r_[0:m2, 2 * n2 - m2:2 * n2]
+            kernel = self._kernel[np.ix_(rows, cols)].copy()
+            kernel[m1, :] = 0.0  # offsets -m, never used by an m-point linear convolution
+            kernel[:, m2] = 0.0
+            convolution = self._windows[shape] = Convolution(fft.rfft2(kernel), shape, (False, False))
+        return convolution.apply(field)
 
     @property
     def fft_shape(self):
