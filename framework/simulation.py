@@ -10,9 +10,13 @@ linearly in time within a step,
     w_k = (lambda_k/dt)(1 - e_k)  (1 when dt = 0),
     q_k <- e_k q_k + w_k (p_n - p_{n-1}),
 
-which costs one extra convolution per step and one surface field per term. An
+which costs one extra convolution per step and one surface field per term
+(plus one, the time integral of the pressure, for a fluid's ``flow`` term). An
 elastic material has no terms, and the steps are independent solves
-warm-started from the previous pressure.
+warm-started from the previous pressure. ``C_eff`` is the mean of ``C*`` over
+``[0, dt]``. The quadratic hereditary sum over all previous steps
+(Chen et al. 2011; seed 001) is kept as :class:`HereditarySum`, the reference
+the recursion is tested against (``options={"history": "hereditary"}``).
 """
 from dataclasses import dataclass, field, replace
 
@@ -38,10 +42,18 @@ class Options:
     check_edges : bool
         Raise :class:`GridTooSmallError` when the contact reaches the edge of a
         non-periodic grid (the DC-FFT half-space ends there).
+    history : str
+        ``"recursive"`` (Prony recursions, O(1) per step) or ``"hereditary"``
+        (the full hereditary sum, O(n) per step: a reference for tests).
     """
 
     solver: SolverOptions = field(default_factory=SolverOptions)
     check_edges: bool = True
+    history: str = "recursive"
+
+    def __post_init__(self):
+        if self.history not in ("recursive", "hereditary"):
+            raise ParameterError(f"history must be 'recursive' or 'hereditary', got {self.history!r}")
 
     @classmethod
     def from_value(cls, value):
@@ -53,38 +65,110 @@ class Options:
         if not isinstance(value, dict):
             raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
         solver_keys = set(SolverOptions.__dataclass_fields__)
-        unknown = set(value) - solver_keys - {"check_edges"}
+        run_keys = {"check_edges", "history"}
+        unknown = set(value) - solver_keys - run_keys
         if unknown:
             raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "
-                                 f"{sorted(solver_keys | {'check_edges'})}")
+                                 f"{sorted(solver_keys | run_keys)}")
         solver = replace(SolverOptions(), **{k: v for k, v in value.items() if k in solver_keys})
-        return cls(solver=solver, check_edges=value.get("check_edges", True))
+        return cls(solver=solver, **{k: v for k, v in value.items() if k in run_keys})
 
 
 @dataclass
 class HistoryState:
-    """What the stepper carries from one step to the next (all on the surface grid).
+    """What the recursion carries from one step to the next (all on the surface grid).
 
     ``pressure`` is the last pressure, ``fields`` the Prony history fields ``q_k``
-    (one per compliance term); rolling translates both with the material.
+    (one per compliance term) and ``integral`` the time integral of the
+    pressure (for a ``flow`` term); rolling translates them with the material.
     """
 
     time: float
     pressure: np.ndarray
     fields: np.ndarray
+    integral: np.ndarray
 
     @classmethod
     def at_rest(cls, shape, n_terms):
-        return cls(0.0, np.zeros(shape), np.zeros((n_terms,) + tuple(shape)))
+        return cls(0.0, np.zeros(shape), np.zeros((n_terms,) + tuple(shape)), np.zeros(shape))
+
+
+class PronyRecursion:
+    """History by Prony recursions: O(1) convolutions and fields per step (THEORY.md sec. 5)."""
+
+    def __init__(self, series, shape):
+        self.series = series
+        self.coefficients, self.retardation = series.coefficients, series.times
+        self.state = HistoryState.at_rest(shape, len(series.terms))
+
+    @property
+    def time(self):
+        return self.state.time
+
+    @property
+    def pressure(self):
+        return self.state.pressure
+
+    def prepare(self, time):
+        """Effective compliance of the step to ``time`` and the pressure-like field of the history."""
+        state, c = self.state, self.coefficients
+        dt = time - state.time
+        compliance = float(self.series.mean(0.0, dt))
+        if not len(c) and not self.series.flow:
+            return compliance, None
+        self._decay = np.exp(-dt / self.retardation)
+        self._weight = np.where(dt > 0, self.retardation / max(dt, 1e-300) * -np.expm1(-dt / self.retardation), 1.0)
+        self._dt = dt
+        field = np.sum(c * self._weight) * state.pressure - np.tensordot(c * self._decay, state.fields, axes=1)
+        if self.series.flow:
+            field = field + self.series.flow * (state.integral + 0.5 * dt * state.pressure)
+        return compliance, field
+
+    def commit(self, time, pressure):
+        state = self.state
+        if len(self.coefficients) or self.series.flow:
+            state.fields = self._decay[:, None, None] * state.fields \
+                + self._weight[:, None, None] * (pressure - state.pressure)
+            state.integral = state.integral + 0.5 * self._dt * (state.pressure + pressure)
+        state.pressure, state.time = pressure, time
+
+
+class HereditarySum:
+    """History by the full hereditary sum over every previous step: O(n) per step.
+
+    ``u_n = K * sum_j (p_j - p_{j-1}) mean_{[t_{j-1}, t_j]} C*(t_n - s)`` for a
+    pressure linear in each step; the reference the recursion must reproduce.
+    """
+
+    def __init__(self, series, shape):
+        self.series = series
+        self.times, self.pressures = [0.0], [np.zeros(shape)]
+
+    time = property(lambda self: self.times[-1])
+    pressure = property(lambda self: self.pressures[-1])
+
+    def prepare(self, time):
+        compliance = float(self.series.mean(0.0, time - self.times[-1]))
+        field = -compliance * self.pressures[-1]
+        for j in range(1, len(self.times)):
+            mean = float(self.series.mean(time - self.times[j], time - self.times[j - 1]))
+            field = field + mean * (self.pressures[j] - self.pressures[j - 1])
+        return compliance, field
+
+    def commit(self, time, pressure):
+        self.times.append(time)
+        self.pressures.append(pressure)
 
 
 def _stations(schedule):
-    """``(time, value, recorded)``: the output times and both sides of every jump."""
+    """``(time, value, recorded)``: the output times, the kinks and both sides of every jump."""
     history, times = schedule.history, schedule.times
-    jumps = {float(t) for t in history.jumps if t <= times[-1]}
+    last = times[-1]
+    jumps = {float(t) for t in history.jumps if t <= last}
+    kinks = {float(t) for t in history.kinks if 0 < t <= last}
     outputs = {float(t) for t in times}
     stations = []
-    for t in sorted(outputs | jumps):
+    for t in sorted(outputs | jumps | kinks):
         if t in jumps:
             stations.append((t, float(history.left(t)), False))
         stations.append((t, float(history(t)), t in outputs))
@@ -131,35 +215,30 @@ class Simulation:
         heights = self.indenter.on_grid(grid)
         operator = SurfaceCompliance(grid)
         series = self.material.contact_compliance()
-        coefficients, retardation = series.coefficients, series.times
-        state = HistoryState.at_rest(grid.shape, len(series.terms))
+        integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         load_control = self.schedule.control == "load"
         index = 0
         for time, value, recorded in _stations(self.schedule):
-            dt = time - state.time
-            decay = np.exp(-dt / retardation)
-            weight = np.where(dt > 0, retardation / max(dt, 1e-300) * -np.expm1(-dt / retardation), 1.0)
-            compliance = series.c0 + float(np.sum(coefficients * (1 - weight)))
-            if len(coefficients):
-                memory = np.tensordot(coefficients * decay, state.fields, axes=1) \
-                    - np.sum(coefficients * weight) * state.pressure
-                history_displacement = -operator.apply(memory)
-            else:
-                history_displacement = 0.0
+            compliance, memory = integrator.prepare(time)
+            if compliance <= 0 and (value > 0 or integrator.pressure.any()):
+                raise ParameterError(
+                    f"the material has no instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, a Kelvin-Voigt "
+                    f"solid): the {self.schedule.control} cannot change suddenly at t = {time:g} s; "
+                    f"use a Ramp or a Table that starts from zero")
+            history_displacement = 0.0 if memory is None else operator.apply(memory)
             solution = solve_normal(
                 lambda p: compliance * operator.apply(p), heights + history_displacement,
-                cell_area=grid.cell_area, initial=state.pressure,
+                cell_area=grid.cell_area, initial=integrator.pressure,
                 load=value if load_control else None, approach=None if load_control else value,
                 options=options.solver, window=operator.window,
                 apply_window=lambda field, box: compliance * operator.apply_window(field, box))
             if options.check_edges:
                 _check_edges(solution.pressure, grid, time, value, self.schedule.control)
-            pressure = solution.pressure
-            state.fields = decay[:, None, None] * state.fields + weight[:, None, None] * (pressure - state.pressure)
-            state.pressure, state.time = pressure, time
+            integrator.commit(time, solution.pressure)
             if recorded:
                 yield StepRecord(index=index, time=time, load=solution.load, approach=solution.approach,
-                                 pressure=pressure, displacement=solution.displacement + history_displacement,
+                                 pressure=solution.pressure,
+                                 displacement=solution.displacement + history_displacement,
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
                                  success=solution.success)
                 index += 1

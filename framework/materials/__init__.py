@@ -2,7 +2,7 @@
 from .base import ComplianceSeries
 from .elastic import Elastic
 from .fitting import PronyFit, fit_prony
-from .viscoelastic import PMMA, FlowComplianceSeries, KelvinVoigt, Maxwell, StandardLinearSolid, Viscoelastic
+from .viscoelastic import PMMA, KelvinVoigt, Maxwell, StandardLinearSolid, Viscoelastic
 
-__all__ = ["ComplianceSeries", "Elastic", "FlowComplianceSeries", "KelvinVoigt", "Maxwell", "PMMA", "PronyFit",
+__all__ = ["ComplianceSeries", "Elastic", "KelvinVoigt", "Maxwell", "PMMA", "PronyFit",
            "StandardLinearSolid", "Viscoelastic", "fit_prony"]

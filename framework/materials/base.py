@@ -6,16 +6,19 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ComplianceSeries:
-    """Contact compliance ``C*(t) = c0 + sum_k c_k (1 - exp(-t / lambda_k))`` [1/Pa].
+    """Contact compliance ``C*(t) = c0 + flow t + sum_k c_k (1 - exp(-t / lambda_k))`` [1/Pa].
 
     ``c0 = C*(0)`` is the instantaneous (glassy) compliance; each term
-    ``(c_k, lambda_k)`` is one retardation mode (lambda_k [s]). An elastic
-    solid has no terms. This is the form the Prony recursions of the time
-    stepper use (THEORY.md sec. 5).
+    ``(c_k, lambda_k)`` is one retardation mode (lambda_k [s]); ``flow``
+    [1/(Pa s)] is the steady creep of a fluid (Maxwell), the limit
+    ``lambda -> inf`` of a mode with ``c/lambda = flow``. An elastic solid has
+    no terms. This is the form the Prony recursions of the time stepper use
+    (THEORY.md sec. 5).
     """
 
     c0: float
     terms: tuple = ()
+    flow: float = 0.0
 
     @property
     def coefficients(self):
@@ -29,13 +32,26 @@ class ComplianceSeries:
 
     @property
     def relaxed(self):
-        """Long-time compliance ``C*(inf)`` [1/Pa]."""
-        return self.c0 + self.coefficients.sum()
+        """Long-time compliance ``C*(inf)`` [1/Pa] (infinite for a fluid)."""
+        return np.inf if self.flow > 0 else self.c0 + self.coefficients.sum()
 
     def __call__(self, t):
         """``C*(t)`` [1/Pa] for times ``t >= 0`` [s]."""
         t = np.asarray(t, dtype=float)
-        value = np.full(t.shape, self.c0)
+        value = self.c0 + self.flow * t
         for c, lam in self.terms:
             value = value + c * -np.expm1(-t / lam)
+        return value
+
+    def mean(self, start, end):
+        """Mean of ``C*`` over ``[start, end]`` [1/Pa] (``C*(start)`` when they coincide), elementwise."""
+        start, end = np.broadcast_arrays(np.asarray(start, dtype=float), np.asarray(end, dtype=float))
+        width = end - start
+        safe = np.where(width > 0, width, 1.0)
+        value = self.c0 + self.flow * (start + end) / 2
+        for c, lam in self.terms:
+            # (1/w) int_a^b (1 - e^{-s/lam}) ds = 1 - (lam/w) e^{-a/lam} (1 - e^{-w/lam})
+            averaged = np.where(width > 0, lam / safe * np.exp(-start / lam) * -np.expm1(-safe / lam),
+                                np.exp(-start / lam))
+            value = value + c * (1 - averaged)
         return value

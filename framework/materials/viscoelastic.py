@@ -84,7 +84,7 @@ from .._validation import check_poisson, check_positive, check_real
 from ..errors import ParameterError
 from .base import ComplianceSeries
 
-__all__ = ["FlowComplianceSeries", "KelvinVoigt", "Maxwell", "PMMA", "StandardLinearSolid", "Viscoelastic"]
+__all__ = ["KelvinVoigt", "Maxwell", "PMMA", "StandardLinearSolid", "Viscoelastic"]
 
 
 # --------------------------------------------------------------------------- validation
@@ -237,44 +237,6 @@ def _creep_to_relaxation(j0, terms):
 
 
 # --------------------------------------------------------------------------- materials
-
-@dataclass(frozen=True)
-class FlowComplianceSeries(ComplianceSeries):
-    """Contact compliance with unbounded creep: ``C*(t) = c0 + flow t + sum_k c_k (1 - exp(-t/lambda_k))``.
-
-    The ``flow`` term [1/(Pa s)] is the creep of a fluid (a dashpot in series):
-    ``flow = (1 - nu^2) / eta`` for a Maxwell material of viscosity ``eta``. It
-    is the limit ``lambda -> inf`` of a retardation mode with ``c/lambda = flow``.
-    In the hereditary integral ``u = K * int_0^t C*(t - s) dp(s)`` it adds
-    ``flow * int_0^t p(s) ds`` (integration by parts with ``p(0-) = 0``): one more
-    history field, the time integral of the pressure, which a pressure varying
-    linearly within a step advances by ``dt (p_{n-1} + p_n) / 2``; the step's
-    effective compliance grows by ``flow * dt / 2``.
-
-    A time stepper that does not know this field must reject the series rather
-    than ignore ``flow``.
-
-    Parameters
-    ----------
-    c0 : float
-        Instantaneous compliance ``C*(0)`` [1/Pa].
-    terms : tuple
-        Retardation modes ``((c_k [1/Pa], lambda_k [s]), ...)``.
-    flow : float
-        Steady creep rate per unit stress ``dC*/dt`` at long times [1/(Pa s)].
-    """
-
-    flow: float = 0.0
-
-    @property
-    def relaxed(self):
-        """Long-time compliance ``C*(inf)`` [1/Pa]: infinite when ``flow > 0``."""
-        return math.inf if self.flow > 0 else super().relaxed
-
-    def __call__(self, t):
-        """``C*(t)`` [1/Pa] for times ``t >= 0`` [s]."""
-        return super().__call__(t) + self.flow * np.asarray(t, dtype=float)
-
 
 @dataclass(frozen=True)
 class Viscoelastic:
@@ -465,7 +427,7 @@ class Maxwell:
 
     ``E(t) = E exp(-t/tau)`` and ``J(t) = 1/E + t / (E tau)``: the creep grows
     without bound, so it is no bounded Prony series; :meth:`contact_compliance`
-    returns a :class:`FlowComplianceSeries` with the linear ``flow`` term.
+    returns a :class:`ComplianceSeries` with the linear ``flow`` term.
 
     Parameters
     ----------
@@ -531,9 +493,9 @@ class Maxwell:
         return (1.0 + _check_times(t) / self.relaxation_time) / self.young
 
     def contact_compliance(self):
-        """``C*(t) = (1 - nu^2)(1/E + t/eta)`` as a :class:`FlowComplianceSeries` [1/Pa]."""
+        """``C*(t) = (1 - nu^2)(1/E + t/eta)`` as a :class:`ComplianceSeries` [1/Pa]."""
         factor = 1.0 - self.poisson**2
-        return FlowComplianceSeries(c0=factor / self.young, terms=(), flow=factor / self.viscosity)
+        return ComplianceSeries(c0=factor / self.young, terms=(), flow=factor / self.viscosity)
 
 
 @dataclass(frozen=True)
