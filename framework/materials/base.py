@@ -38,7 +38,7 @@ class ComplianceSeries:
     def __call__(self, t):
         """``C*(t)`` [1/Pa] for times ``t >= 0`` [s]."""
         t = np.asarray(t, dtype=float)
-        value = self.c0 + self.flow * t
+        value = self.c0 + (self.flow * t if self.flow else np.zeros(t.shape))
         for c, lam in self.terms:
             value = value + c * -np.expm1(-t / lam)
         return value
@@ -48,7 +48,7 @@ class ComplianceSeries:
         start, end = np.broadcast_arrays(np.asarray(start, dtype=float), np.asarray(end, dtype=float))
         width = end - start
         safe = np.where(width > 0, width, 1.0)
-        value = self.c0 + self.flow * (start + end) / 2
+        value = self.c0 + (self.flow * (start + end) / 2 if self.flow else np.zeros(start.shape))
         for c, lam in self.terms:
             # (1/w) int_a^b (1 - e^{-s/lam}) ds = 1 - (lam/w) e^{-a/lam} (1 - e^{-w/lam})
             averaged = np.where(width > 0, lam / safe * np.exp(-start / lam) * -np.expm1(-safe / lam),

@@ -1,0 +1,108 @@
+"""Viscoelastic indentation: the stepper against Lee & Radok and against its own hereditary sum.
+
+Material: a two-term Prony solid, E(t) = 1 + 1.5 exp(-t/1 s) + 1 exp(-t/30 s) GPa,
+nu = 0.4; rigid sphere R = 10 mm. Grids: odd, about 36 cells per final contact radius.
+"""
+import numpy as np
+import pytest
+
+import framework as fw
+from framework import indenters, loads, materials, reference, schedules
+from framework.simulation import HereditarySum, PronyRecursion
+
+MATERIAL = materials.Viscoelastic.from_prony(e_inf=1e9, terms=[(1.5e9, 1.0), (1e9, 30.0)], poisson=0.4)
+RADIUS = 10e-3
+LOAD = 2.0  # N
+
+
+def grid_for(final_radius, cells):
+    dx = final_radius / cells
+    n = 2 * int(1.6 * cells) + 1
+    return fw.Grid(shape=(n, n), size=(n * dx, n * dx))
+
+
+def lee_radok_step(t):
+    """Lee & Radok: a^3 = 3 R W C*(t) / 4, delta = a^2 / R."""
+    a = (0.75 * RADIUS * LOAD * MATERIAL.contact_compliance()(t)) ** (1 / 3)
+    return a, a**2 / RADIUS
+
+
+@pytest.fixture(scope="module")
+def creep_run():
+    times = np.concatenate([[0.0], np.geomspace(0.01, 200.0, 40)])
+    final_radius = lee_radok_step(np.inf)[0]
+    sim = fw.Simulation(grid=grid_for(final_radius, 36), material=MATERIAL, indenter=indenters.Sphere(radius=RADIUS),
+                        schedule=schedules.Static(load=loads.Step(LOAD), times=times))
+    return sim.run()
+
+
+def test_step_load_follows_lee_radok(creep_run):
+    a, delta = lee_radok_step(creep_run.times)
+    assert np.abs(creep_run.contact_radius / a - 1).max() < 1e-2
+    assert np.abs(creep_run.approach / delta - 1).max() < 1e-2
+    assert np.all(np.diff(creep_run.contact_radius) >= 0) and np.all(np.diff(creep_run.approach) > 0)
+    assert np.allclose(creep_run.load, LOAD, rtol=1e-12)
+
+
+def test_recursion_equals_hereditary_sum_for_any_pressure_history():
+    """Given the same pressures, the O(1) recursion and the O(n) sum give the same history fields."""
+    rng = np.random.default_rng(1)
+    series = materials.Maxwell(young=2e9, relaxation_time=3.0, poisson=0.3).contact_compliance()
+    for series in (MATERIAL.contact_compliance(), series):
+        recursion, direct = PronyRecursion(series, (6, 5)), HereditarySum(series, (6, 5))
+        for time in [0.0, 0.0, 0.3, 0.31, 2.0, 2.0, 7.5, 40.0, 41.0]:
+            c1, f1 = recursion.prepare(time)
+            c2, f2 = direct.prepare(time)
+            assert c1 == pytest.approx(c2, rel=1e-14)
+            if f1 is not None:
+                assert np.abs(f1 - f2).max() <= 1e-12 * c2 * 1e9  # pressures ~1e9 Pa
+            pressure = rng.random((6, 5)) * 1e9
+            recursion.commit(time, pressure)
+            direct.commit(time, pressure)
+
+
+def test_recursion_equals_hereditary_sum_in_a_full_run():
+    history = loads.Sequence([loads.Ramp(LOAD, 1.0), loads.Hold(3.0), loads.Ramp(0.3 * LOAD, 1.0), loads.Hold(10.0)])
+    times = np.linspace(0.25, 15.0, 24)
+    grid = grid_for(lee_radok_step(np.inf)[0], 12)
+    options = {"tolerance": 1e-13, "residual_tolerance": 1e-11}
+    runs = [fw.Simulation(grid=grid, material=MATERIAL, indenter=indenters.Sphere(radius=RADIUS),
+                          schedule=schedules.Static(load=history, times=times),
+                          options=dict(options, history=kind)).run() for kind in ("recursive", "hereditary")]
+    peak = runs[1].max_pressure.max()
+    for step in range(len(times)):
+        assert np.abs(runs[0].pressure(step) - runs[1].pressure(step)).max() <= 1e-10 * peak
+    assert np.allclose(runs[0].approach, runs[1].approach, rtol=1e-10)
+
+
+def test_step_approach_relaxes_the_load():
+    """Step approach delta0: W(t) = (4 sqrt(R)/3) E*(t) delta0^(3/2), contact radius sqrt(R delta0)."""
+    delta0 = 2e-6
+    times = np.concatenate([[0.0], np.geomspace(0.01, 200.0, 25)])
+    grid = grid_for(np.sqrt(RADIUS * delta0), 36)
+    result = fw.Simulation(grid=grid, material=MATERIAL, indenter=indenters.Sphere(radius=RADIUS),
+                           schedule=schedules.Static(approach=loads.Step(delta0), times=times)).run()
+    expected = 4 * np.sqrt(RADIUS) / 3 * MATERIAL.relaxation(times) / (1 - MATERIAL.poisson**2) * delta0**1.5
+    assert np.abs(result.load / expected - 1).max() < 1e-2
+    assert np.abs(result.contact_radius / np.sqrt(RADIUS * delta0) - 1).max() < 1e-2
+    assert np.all(np.diff(result.load) < 0)
+
+
+def test_unloading_with_a_receding_contact():
+    """Load, hold, unload to zero, recover (Ting 1966): p >= 0, the area recedes, the approach recovers."""
+    history = loads.Sequence([loads.Ramp(LOAD, 2.0), loads.Hold(5.0), loads.Ramp(0.0, 2.0), loads.Hold(100.0)])
+    times = np.concatenate([np.linspace(0.2, 9.0, 45), np.geomspace(9.5, 109.0, 20)])
+    grid = grid_for(lee_radok_step(np.inf)[0], 16)
+    result = fw.Simulation(grid=grid, material=MATERIAL, indenter=indenters.Sphere(radius=RADIUS),
+                           schedule=schedules.Static(load=history, times=times)).run()
+    assert all(np.all(result.pressure(k) >= 0) for k in range(len(times)))
+    unloading = (times >= 7.0) & (times <= 9.0)
+    assert np.all(np.diff(result.contact_area[unloading]) <= 0)
+    assert result.contact_area[times >= 9.0].max() == 0.0
+    recovery = times > 9.0
+    # after unloading the surface creeps back: the approach (depth of the imprint) falls towards zero
+    assert np.all(np.diff(result.approach[recovery]) <= 1e-15)
+    assert result.approach[-1] < 0.05 * result.approach.max()
+    # the cycle dissipates energy: int W d(delta) > 0 along the history
+    work = np.trapezoid(result.load, result.approach)
+    assert work > 0.02 * LOAD * result.approach.max()
