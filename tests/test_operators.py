@@ -166,13 +166,13 @@ def test_operator_rejects_wrong_shape():
 
 
 def test_windowed_apply_equals_the_full_convolution_on_the_window():
-    grid = fw.Grid(shape=(70, 50), size=(1.0, 1.0))
+    grid = fw.Grid(shape=(90, 80), size=(1.0, 1.0))
     operator = SurfaceCompliance(grid)
     support = np.zeros(grid.shape, bool)
     support[20:41, 7:30] = RNG.random((21, 23)) > 0.3
     field = np.where(support, RNG.random(grid.shape), 0.0)
     box = operator.window(support)
-    assert all((s.stop - s.start) % 16 == 0 for s in box)
-    assert field[box].sum() == field.sum()
+    assert all((s.stop - s.start) % 32 == 0 for s in box)
+    assert support[box].sum() == support.sum()
     full = operator.apply(field)[box]
     assert np.abs(operator.apply_window(field[box], box) - full).max() <= 1e-12 * np.abs(full).max()

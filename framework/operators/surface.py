@@ -108,17 +108,26 @@ class SurfaceCompliance:
     def window(self, support):
         """Slices of a box holding ``support`` (boolean ``(n1, n2)``), for :meth:`apply_window`.
 
-        The box is padded up to a multiple of 16 cells per side so that a few
-        box shapes (and their kernel spectra) serve a whole solve; a periodic
-        grid always gets the whole grid.
+        Box sides are multiples of 32 cells, and a box already planned that
+        holds the support is reused, so that a whole run needs few FFT plans;
+        a box nearly as large as the grid, or a periodic grid, gets the whole grid.
         """
+        whole = (slice(None), slice(None))
         if any(self.grid.periodic) or not support.any():
-            return (slice(None), slice(None))
+            return whole
+        ranges = [np.flatnonzero(support.any(axis=1 - axis))[[0, -1]] for axis in (0, 1)]
+        need = [int(last - first + 1) for first, last in ranges]
+        shape = tuple(min(n, -(-e // 32) * 32) for e, n in zip(need, self.grid.shape))
+        planned = [s for s in self._windows if s[0] >= need[0] and s[1] >= need[1]]
+        if planned:
+            best = min(planned, key=lambda s: s[0] * s[1])
+            if best[0] * best[1] <= 1.5 * shape[0] * shape[1]:
+                shape = best
+        if shape[0] * shape[1] > 0.6 * self.grid.shape[0] * self.grid.shape[1]:
+            return whole
         slices = []
-        for axis, n in enumerate(self.grid.shape):
-            used = np.flatnonzero(support.any(axis=1 - axis))
-            size = min(n, -(-(used[-1] - used[0] + 1) // 16) * 16)
-            start = min(max(0, used[0] - (size - (used[-1] - used[0] + 1)) // 2), n - size)
+        for (first, last), size, n in zip(ranges, shape, self.grid.shape):
+            start = min(max(0, int(first) - (size - int(last - first + 1)) // 2), n - size)
             slices.append(slice(start, start + size))
         return tuple(slices)
 
