@@ -4,13 +4,20 @@
 - :mod:`.punch`: flat punch (Boussinesq) and rounded flat punch (Ciavarella 1999).
 - :mod:`.westergaard`: periodic wavy surface (Westergaard 1939).
 - :mod:`.boussinesq`: point-load fields and rectangle loads by quadrature.
+- :mod:`.viscoelastic`: Lee & Radok (1960) step load, step and ramp approach;
+  Ting (1966) / Graham (1967) receding contact (sphere, single maximum).
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
 from .hertz import HertzCylinder, HertzSphere
 from .punch import FlatPunch, RoundedFlatPunch
+from .viscoelastic import (TingSolution, lee_radok_load_for_approach, lee_radok_ramp_load,
+                           lee_radok_step_approach_load, lee_radok_step_load, lee_radok_step_load_pressure,
+                           ting_contact_radius)
 from .westergaard import Westergaard
 
-__all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Westergaard",
+__all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "TingSolution", "Westergaard",
+           "lee_radok_load_for_approach", "lee_radok_ramp_load", "lee_radok_step_approach_load", "lee_radok_step_load",
+           "lee_radok_step_load_pressure", "ting_contact_radius",
            "point_load_displacement", "point_load_stress", "rectangle_displacement_by_quadrature",
            "rectangle_stress_by_quadrature"]

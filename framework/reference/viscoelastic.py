@@ -34,12 +34,16 @@ only, so on the viscoelastic body ``G(x, t) = int_0^t C*(t - s) d_s g(x, s)``
 replaces ``g`` in the displacement. Abel inversion of ``u = delta - r**2/(2R)``
 over the contact gives, for each x < a(t), ``G(x, t) = (delta(t) - x**2/R)/2``;
 for x > a(t), ``g(x, t) = 0``. The problem thus separates into one history per
-x. With a(t) rising to its maximum at t_m and then falling, and t1(t) <= t_m
-the loading time at which a(t1) = a(t), bounded pressure at the edge gives
+x: a point x < a(t) entered the contact at t_x (a(t_x) = x) and has stayed in
+it, so ``g(x, t) = (1/2) int_{t_x}^{t} E*(t - s) d delta(s)``. Bounded pressure
+at the edge, g(a(t)-, t) = 0, gives delta = a**2/R while a grows (Lee & Radok)
+and, with a(t) rising to its maximum at t_m and then falling, and t1(t) <= t_m
+the loading time at which a(t1) = a(t),
 
-    int_{t1(t)}^{t} E*(t - s) d delta(s) = 0          (t > t_m),
+    int_{t1(t)}^{t} E*(t - s) d delta(s) = 0          (t > t_m).
 
-and then ``g(x, t) = int_0^{t1(t)} E*(t - s) d_s (a(s)**2 - x**2)_+ / (2R)``:
+Splitting the integral for g(x, t) at t1(t) then leaves
+``g(x, t) = int_0^{t1(t)} E*(t - s) d_s (a(s)**2 - x**2)_+ / (2R)``:
 the pressure and the load are the Lee & Radok integrals cut at t1(t),
 
     W(t) = (4 / (3R)) int_0^{t1(t)} E*(t - s) d[a(s)**3](s)   (Graham 1967),
@@ -63,7 +67,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.special import dawsn
 
-from .._validation import check_non_negative, check_poisson, check_positive, check_real
+from .._validation import check_non_negative, check_poisson, check_positive, check_positive_int
 from ..errors import ParameterError
 
 __all__ = ["TingSolution", "lee_radok_load_for_approach", "lee_radok_ramp_load", "lee_radok_step_approach_load",
@@ -190,7 +194,7 @@ def lee_radok_step_load_pressure(r, t, radius, load, relaxation, creep, poisson)
     r : array_like
         Radial distance from the axis, >= 0 [m].
     t : float
-        Time after the application of the load, > 0 [s].
+        Time after the application of the load, >= 0 [s] (t = 0: glassy Hertz).
     radius : float
         Sphere radius R [m].
     load : float
@@ -209,12 +213,12 @@ def lee_radok_step_load_pressure(r, t, radius, load, relaxation, creep, poisson)
 
     References
     ----------
-    Lee & Radok (1960); Johnson, *Contact Mechanics* (1985), section 6.5.
+    Lee & Radok (1960).
     """
     radii = np.asarray(r, dtype=float)
     if not np.all(np.isfinite(radii)) or np.any(radii < 0.0):
         raise ParameterError(f"r must be finite and >= 0 [m], got minimum {np.min(radii)!r}")
-    t = check_positive(t, name="t", unit="s")
+    t = check_non_negative(t, name="t", unit="s")
     radius = check_positive(radius, name="radius", unit="m")
     load = check_positive(load, name="load", unit="N")
     poisson = check_poisson(poisson)
@@ -439,15 +443,6 @@ def _panel_map(lo, hi, kind, u):
                     np.where(kind == _CLUSTER_RIGHT, hi - length * (1.0 - x) ** 3, lo + length * x))
 
 
-def _panel_unmap(lo, hi, kind, s):
-    y = min(max((s - lo) / (hi - lo), 0.0), 1.0)
-    if kind == _CLUSTER_LEFT:
-        y = np.cbrt(y)
-    elif kind == _CLUSTER_RIGHT:
-        y = 1.0 - np.cbrt(1.0 - y)
-    return 2.0 * y - 1.0
-
-
 class _Panels:
     """Intervals [lo, hi] of a time grid, each with a map and its Lobatto nodes."""
 
@@ -562,7 +557,7 @@ def _first_maximum(panels, values):
     return time, value
 
 
-def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson):
+def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson, *, subdivisions=1):
     """Contact radius (and approach) of a rigid sphere under a load that rises, then falls.
 
     Loading (a(t) non-decreasing, Lee & Radok 1960):
@@ -602,6 +597,10 @@ def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson):
         Tension relaxation modulus E(t) [Pa] of the same material.
     poisson : float
         Poisson ratio nu [-].
+    subdivisions : int, optional
+        Number of panels per interval of ``t`` (default 1). Raise it when the
+        intervals are much longer than the shortest relaxation or retardation
+        time; the result is unchanged (to ~1e-12) once the grid is fine enough.
 
     Returns
     -------
@@ -643,7 +642,7 @@ def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson):
 
     def loading_history(breaks):
         """A(s) = int_0^s C*(s - v) dW(v) (= 4 a**3 / (3R) while a grows) at the nodes."""
-        kinds = np.zeros(len(breaks) - 1, dtype=int)
+        kinds = np.full(len(breaks) - 1, _LINEAR)
         kinds[0] = _CLUSTER_LEFT
         panels = _Panels(breaks, kinds)
         load_values = load(panels.nodes)
@@ -653,7 +652,12 @@ def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson):
                                                                               panels.derivative(load_values))
         return panels, values
 
+    subdivisions = check_positive_int(subdivisions, name="subdivisions")
     breaks = np.unique(np.concatenate([[0.0], times]))
+    if subdivisions > 1:
+        fractions = np.arange(subdivisions) / subdivisions
+        breaks = np.concatenate([(breaks[:-1, None] + np.diff(breaks)[:, None] * fractions[None, :]).ravel(),
+                                 breaks[-1:]])
     panels, cube_values = loading_history(breaks)
     maximum = _first_maximum(panels, cube_values)
 
@@ -699,7 +703,9 @@ def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson):
         if np.any(load_at_breaks[end:] > 0.0):
             raise ParameterError("the load becomes positive again after the contact was lost; "
                                  "re-loading of a recovering surface is not supported")
-        if load_at_breaks[end] < 0.0:                      # insert the zero crossing as a grid point
+        if end == 0:                                       # no load left at t_m itself
+            contact_breaks = second_breaks[:1]
+        elif load_at_breaks[end] < 0.0:                    # insert the zero crossing as a grid point
             crossing = brentq(lambda s: float(load(s)), second_breaks[end - 1], second_breaks[end], xtol=1e-15)
             contact_breaks = np.concatenate([second_breaks[:end], [crossing]])
         else:
@@ -708,7 +714,7 @@ def ting_contact_radius(t, load_function, radius, creep, relaxation, poisson):
     else:
         contact_breaks = second_breaks
         loss_time = np.inf
-    kinds = np.zeros(contact_breaks.size - 1, dtype=int)
+    kinds = np.full(contact_breaks.size - 1, _LINEAR)
     if np.isfinite(loss_time) and kinds.size:
         kinds[-1] = _CLUSTER_RIGHT
     second = _Panels(contact_breaks, kinds) if kinds.size else None
