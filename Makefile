@@ -26,6 +26,7 @@ test-all: $(STAMP)
 bench: $(STAMP)
 	$(PY) -m pip install --quiet tamaas
 	$(PY) bench/elastic_hertz.py
+	$(PY) bench/visco_indentation.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

@@ -1,4 +1,4 @@
-"""The default scenario: a steel sphere pressed on an elastic half-space (Hertz).
+"""The default scenario: a steel ball creeping into PMMA under a constant load (Lee & Radok).
 
 Writes to the output folder: ``summary.csv`` (one row per step),
 ``summary.txt`` (the comparison with Hertz), ``fields.npz`` (pressure,
@@ -11,17 +11,19 @@ import time
 
 import numpy as np
 
-from . import Grid, Simulation, indenters, materials, reference, schedules
+from . import Grid, Simulation, indenters, loads, materials, reference, schedules
+
+
+LOAD = 20.0  # N
 
 
 def build(n=129):
-    """The demo simulation on an ``n x n`` grid (a ramp of five loads)."""
-    material = materials.Elastic(young=210e9, poisson=0.3)
-    sphere = indenters.Sphere(radius=10e-3)
-    loads = np.linspace(20.0, 100.0, 5)  # N
+    """The demo simulation on an ``n x n`` grid: 20 N held for 1000 s on seed 001's PMMA."""
+    sphere = indenters.Sphere(radius=5e-3)
+    times = np.concatenate([[0.0], np.geomspace(0.1, 1000.0, 16)])
     grid = Grid(shape=(n, n), size=(1.2e-3, 1.2e-3), depth=0.6e-3, layers=24)
-    return Simulation(grid=grid, material=material, indenter=sphere,
-                      schedule=schedules.Static(load=loads, times=np.arange(loads.size, dtype=float)))
+    return Simulation(grid=grid, material=materials.PMMA, indenter=sphere,
+                      schedule=schedules.Static(load=loads.Step(LOAD), times=times))
 
 
 def write_summary(result, folder):
@@ -43,17 +45,16 @@ def main(folder="out", n=129):
     result = sim.run(progress=True)
     elapsed = time.perf_counter() - start
     written = [write_summary(result, folder)]
-    contact_modulus = sim.material.contact_modulus
-    lines = [f"Sphere R = {sim.indenter.radius * 1e3:g} mm on E = {sim.material.young / 1e9:g} GPa, "
-             f"nu = {sim.material.poisson:g}; grid {sim.grid.shape} cells over {sim.grid.size} m, "
-             f"{elapsed:.2f} s",
-             f"{'load N':>8} {'a um':>8} {'a Hertz':>8} {'p0 MPa':>9} {'p0 Hertz':>9} {'delta um':>9} "
-             f"{'d Hertz':>8} {'iter':>5}"]
-    for k, load in enumerate(result.load):
-        exact = reference.HertzSphere(radius=sim.indenter.radius, load=load, contact_modulus=contact_modulus)
-        lines.append(f"{load:8.1f} {result.contact_radius[k] * 1e6:8.2f} {exact.contact_radius * 1e6:8.2f} "
-                     f"{result.max_pressure[k] / 1e6:9.1f} {exact.max_pressure / 1e6:9.1f} "
-                     f"{result.approach[k] * 1e6:9.4f} {exact.approach * 1e6:8.4f} {result.iterations[k]:5d}")
+    material = sim.material
+    exact_a, exact_delta = reference.lee_radok_step_load(result.times, sim.indenter.radius, LOAD, material.creep,
+                                                         material.poisson)
+    lines = [f"Ball R = {sim.indenter.radius * 1e3:g} mm under {LOAD:g} N on PMMA (seed 001, nu = "
+             f"{material.poisson:g}); grid {sim.grid.shape} cells over {sim.grid.size} m; {elapsed:.2f} s",
+             f"{'t s':>8} {'a um':>8} {'a L&R':>8} {'delta um':>9} {'d L&R':>8} {'p max MPa':>10} {'iter':>5}"]
+    for k, t in enumerate(result.times):
+        lines.append(f"{t:8.3g} {result.contact_radius[k] * 1e6:8.2f} {exact_a[k] * 1e6:8.2f} "
+                     f"{result.approach[k] * 1e6:9.4f} {exact_delta[k] * 1e6:8.4f} "
+                     f"{result.max_pressure[k] / 1e6:10.2f} {result.iterations[k]:5d}")
     von_mises = result.von_mises(-1)
     i, j, k = np.unravel_index(np.argmax(von_mises), von_mises.shape)
     lines.append(f"max von Mises at the last step: {von_mises.max() / 1e6:.1f} MPa at depth "

@@ -56,7 +56,7 @@ class Static:
             raise ParameterError("times must hold at least one time, got an empty array")
         loads.check_increasing(times, name="times")
         history = _as_history(value, times, self.control)
-        probe = np.concatenate([times, np.asarray(history.jumps, dtype=float)])
+        probe = np.concatenate([times, np.asarray(history.jumps + history.kinks, dtype=float)])
         values = np.concatenate([history(probe), history.left(probe)])
         if np.any(values < 0):
             raise ParameterError(f"{self.control} must be >= 0 at every time, got {float(values[values < 0][0])!r}")

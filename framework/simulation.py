@@ -18,6 +18,7 @@ warm-started from the previous pressure. ``C_eff`` is the mean of ``C*`` over
 (Chen et al. 2011; seed 001) is kept as :class:`HereditarySum`, the reference
 the recursion is tested against (``options={"history": "hereditary"}``).
 """
+import sys
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -251,17 +252,18 @@ class Simulation:
         """
         self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options)
         total = len(self.schedule.times)
+        end = "\r" if sys.stdout.isatty() else "\n"
         try:
             for record in self.steps():
                 result.append(record)
                 if progress:
-                    print(f"\rstep {record.index + 1}/{total}  t = {record.time:.4g} s  "
-                          f"load = {record.load:.4g} N  iterations = {record.iterations}", end="", flush=True)
+                    print(f"step {record.index + 1}/{total}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
+                          f"approach = {record.approach:.4g} m  iterations = {record.iterations}", end=end, flush=True)
         except FrameworkError as exc:
             exc.partial_result = result
             raise
         finally:
-            if progress:
+            if progress and end == "\r":
                 print()
         return result
 
