@@ -176,6 +176,13 @@ class Result:
             out[i] = p @ coefficients
         return out
 
+    def configuration(self):
+        """The run's full configuration as plain data (see :func:`framework.config.describe`)."""
+        from .config import describe
+        return {"framework_version": self.version, "grid": describe(self.grid), "material": describe(self.material),
+                "indenter": describe(self.indenter), "schedule": describe(self.schedule),
+                "options": describe(self.options)}
+
     def summary(self):
         """Per-step scalar table as a dict of arrays."""
         center = self.center
