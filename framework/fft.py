@@ -118,11 +118,11 @@ class RealFFTPair:
             self.real_in = pyfftw.zeros_aligned(self.shape, dtype="float64")
             self.spectrum = pyfftw.zeros_aligned(spectral, dtype="complex128")
             self.real_out = pyfftw.zeros_aligned(self.shape, dtype="float64")
-            flags = ("FFTW_MEASURE", "FFTW_DESTROY_INPUT")
-            self._forward = pyfftw.FFTW(self.real_in, self.spectrum, axes=(-2, -1), flags=flags,
-                                        threads=THREADS)
+            # No FFTW_DESTROY_INPUT on the forward plan: the zero padding of real_in is written once.
+            self._forward = pyfftw.FFTW(self.real_in, self.spectrum, axes=(-2, -1),
+                                        flags=("FFTW_MEASURE",), threads=THREADS)
             self._inverse = pyfftw.FFTW(self.spectrum, self.real_out, axes=(-2, -1), direction="FFTW_BACKWARD",
-                                        flags=flags, threads=THREADS)
+                                        flags=("FFTW_MEASURE", "FFTW_DESTROY_INPUT"), threads=THREADS)
             self.real_in[...] = 0.0  # planning with FFTW_MEASURE scribbles on the buffers
         else:
             self.real_in = np.zeros(self.shape)
