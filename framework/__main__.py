@@ -1,24 +1,103 @@
-"""Command line: ``python -m framework demo [--out DIR] [--cells N]``."""
+"""Command line.
+
+    python -m framework run SCENARIO.toml --out DIR     run a scenario file
+    python -m framework demo [--out DIR]                 run the built-in default scenario
+    python -m framework check SCENARIO.toml              check a scenario file without running it
+
+The numerical core never imports ``viz``; this entry point does, when a
+scenario asks for VTU files or pictures.
+"""
 import argparse
+import csv
+import os
 import sys
+import time
 
 from .errors import FrameworkError
 
 
+def write_summary(result, path):
+    """``summary.csv``: one row per finished step, SI units in the header."""
+    table = result.summary()
+    units = {"time": "s", "load": "N", "approach": "m", "contact_area": "m2", "contact_radius": "m",
+             "max_pressure": "Pa", "center_x1": "m", "center_x2": "m", "tilt_x1": "rad", "tilt_x2": "rad",
+             "friction_coefficient": "1", "torque": "N m", "iterations": "1", "residual": "1"}
+    temporary = path + ".tmp"
+    with open(temporary, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow([f"{key} [{units.get(key, '')}]" for key in table])
+        writer.writerows(zip(*table.values()))
+    os.replace(temporary, path)
+
+
+def run_scenario(scenario, out, *, progress=True):
+    """Run a parsed scenario, writing as each step finishes; returns (result, files written)."""
+    output = scenario.output
+    viz = None
+    if output.vtu or output.pictures or output.history:
+        try:
+            import viz
+        except ImportError as exc:
+            raise FrameworkError(f"this scenario writes VTU files or pictures, which need the viz extra: "
+                                 f"pip install 'viscocontact[viz]' ({exc})") from exc
+    os.makedirs(out, exist_ok=True)
+    marker = os.path.join(out, "INCOMPLETE")
+    with open(marker, "w") as f:
+        f.write(f"run of {scenario.source} in progress or failed; the files here hold the finished steps only\n")
+    summary = os.path.join(out, "summary.csv")
+    exporter = viz.Exporter(out) if output.vtu else None
+    wanted = None if output.steps == "all" else set(output.steps)
+
+    def on_step(result, record):
+        if exporter is not None and (wanted is None or record.index in wanted):
+            exporter.write(result, record.index)
+        write_summary(result, summary)
+
+    start = time.perf_counter()
+    result = scenario.simulation.run(progress=progress, callback=on_step)
+    elapsed = time.perf_counter() - start
+    for picture in output.pictures:
+        name = picture.get("file") or f"{picture['field']}_{picture.get('kind', 'map')}.png"
+        viz.render(result, os.path.join(out, name), field=picture["field"], step=picture.get("step", -1),
+                   kind=picture.get("kind", "map"))
+    if output.history:
+        viz.plot_history(result, os.path.join(out, "history.png"), list(output.history))
+    os.remove(marker)
+    written = sorted(os.path.join(out, name) for name in os.listdir(out))
+    return result, written, elapsed
+
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m framework", description=__doc__)
+    from . import scenario as scenarios
+    parser = argparse.ArgumentParser(prog="python -m framework", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True)
-    demo = commands.add_parser("demo", help="run the default scenario and write its outputs")
+    run = commands.add_parser("run", help="run a scenario file")
+    run.add_argument("scenario", help="scenario file (TOML)")
+    run.add_argument("--out", default="out", help="output folder (default: out)")
+    demo = commands.add_parser("demo", help="run the built-in default scenario")
     demo.add_argument("--out", default="out", help="output folder (default: out)")
-    demo.add_argument("--cells", type=int, default=129, help="cells per side of the surface grid (default: 129)")
+    for command in (run, demo):
+        command.add_argument("--cells", type=int, default=None,
+                             help="replace the grid by CELLS x CELLS cells of the same size (a quick look)")
+        command.add_argument("--quiet", action="store_true", help="no progress lines")
+    check = commands.add_parser("check", help="check a scenario file without running it")
+    check.add_argument("scenario")
     args = parser.parse_args(argv)
     try:
-        if args.command == "demo":
-            from .demo import main as run_demo
-            run_demo(args.out, args.cells)
+        path = scenarios.demo_path() if args.command == "demo" else args.scenario
+        scenario = scenarios.read(path, cells=getattr(args, "cells", None))
+        if args.command == "check":
+            print(f"{path}: ok ({len(scenario.simulation.schedule.times)} steps on a "
+                  f"{scenario.simulation.grid.shape} grid)")
+            return 0
+        result, written, elapsed = run_scenario(scenario, args.out, progress=not getattr(args, "quiet", False))
     except FrameworkError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    print(f"{len(result)} steps in {elapsed:.1f} s; wrote {len(written)} files to {args.out}:")
+    for path in written:
+        print(f"  {path}")
     return 0
 
 

@@ -22,6 +22,10 @@ class GridTooSmallError(FrameworkError, ValueError):
     """The contact reaches the edge of a non-periodic grid: enlarge the grid or lower the load."""
 
 
+class LoadNotCarriedError(FrameworkError, ValueError):
+    """No contact of the body can carry the load where it is applied (e.g. an offset beyond a punch's face)."""
+
+
 class ConvergenceError(FrameworkError, RuntimeError):
     """An iterative solver stopped before meeting its tolerance."""
 

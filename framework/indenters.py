@@ -22,6 +22,10 @@ class Indenter:
         """Height [m] of the body above the undeformed surface at ``(x1, x2)`` [m]."""
         raise NotImplementedError
 
+    def reach(self, grid):
+        """Cells the body can touch at all (all of them but for a punch's walls)."""
+        return np.ones(grid.shape, bool)
+
     def on_grid(self, grid):
         """Height on the cells of ``grid`` [m], checked finite."""
         x1, x2 = grid.coordinates()
@@ -76,6 +80,9 @@ class FlatPunch(Indenter):
     def height(self, x1, x2):
         r = np.hypot(x1, x2)
         return np.where(r <= self.radius, 0.0, _wall(x1, x2))
+
+    def reach(self, grid):
+        return np.hypot(*grid.coordinates()) <= self.radius
 
 
 @dataclass(frozen=True)

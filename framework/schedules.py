@@ -67,3 +67,35 @@ class Static:
     def control(self):
         """``"load"`` or ``"approach"``."""
         return "load" if self.load is not None else "approach"
+
+
+@dataclass(frozen=True)
+class Eccentric(Static):
+    """Indentation under a load applied off the indenter's axis: the indenter tilts.
+
+    The approach and both tilts are unknowns fixed by the force and the two
+    moments at every step (THEORY.md sec. 6); ``Result.tilt`` holds the tilt
+    angles ``atan(alpha1), atan(alpha2)`` [rad] of the rigid motion
+    ``w = delta + alpha1 x1 + alpha2 x2`` (``tilt[:, 0]`` is the slope along x1,
+    a rotation about the x2 axis).
+
+    Parameters
+    ----------
+    load : float, sequence or loads.History
+        Total normal load [N].
+    offset : tuple of float
+        Point ``(e1, e2)`` [m] where the load acts, from the indenter's axis.
+    times : array_like, optional
+        Output times [s].
+    """
+
+    offset: tuple = (0.0, 0.0)
+
+    def __init__(self, load, offset=(0.0, 0.0), times=None):
+        if load is None:
+            raise ParameterError("Eccentric needs a load (N); an approach cannot be applied off the axis")
+        if not isinstance(offset, (tuple, list, np.ndarray)) or len(offset) != 2:
+            raise ParameterError(f"offset must be a pair (e1, e2) [m], got {offset!r}")
+        offset = tuple(check_finite_array(offset, name="offset", ndim=1).tolist())
+        object.__setattr__(self, "offset", offset)
+        Static.__init__(self, load=load, approach=None, times=times)

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import schedules
-from .errors import FrameworkError, GridTooSmallError, ParameterError
+from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
 from .indenters import Indenter
 from .operators.surface import SurfaceCompliance
@@ -218,6 +218,10 @@ class Simulation:
         series = self.material.contact_compliance()
         integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         load_control = self.schedule.control == "load"
+        offset = getattr(self.schedule, "offset", None)
+        coordinates = grid.coordinates() if offset is not None else None
+        if offset is not None:
+            _check_offset(offset, self.indenter.reach(grid), coordinates)
         index = 0
         for time, value, recorded in _stations(self.schedule):
             compliance, memory = integrator.prepare(time)
@@ -232,7 +236,8 @@ class Simulation:
                 cell_area=grid.cell_area, initial=integrator.pressure,
                 load=value if load_control else None, approach=None if load_control else value,
                 options=options.solver, window=operator.window,
-                apply_window=lambda field, box: compliance * operator.apply_window(field, box))
+                apply_window=lambda field, box: compliance * operator.apply_window(field, box),
+                offset=offset, coordinates=coordinates)
             if options.check_edges:
                 _check_edges(solution.pressure, grid, time, value, self.schedule.control)
             integrator.commit(time, solution.pressure)
@@ -241,11 +246,19 @@ class Simulation:
                                  pressure=solution.pressure,
                                  displacement=solution.displacement + history_displacement,
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
-                                 success=solution.success)
+                                 success=solution.success, tilt=tuple(np.arctan(solution.slopes)))
                 index += 1
 
-    def run(self, progress=False):
+    def run(self, progress=False, callback=None):
         """Run every step and return the :class:`Result`.
+
+        Parameters
+        ----------
+        progress : bool
+            Print one line per step (the same line on a terminal).
+        callback : callable, optional
+            ``callback(result, record)`` after each finished step (e.g. to write
+            it to disk at once).
 
         If a step fails, the exception carries the finished steps as
         ``exc.partial_result`` (also kept in ``self.result``).
@@ -256,6 +269,8 @@ class Simulation:
         try:
             for record in self.steps():
                 result.append(record)
+                if callback is not None:
+                    callback(result, record)
                 if progress:
                     print(f"step {record.index + 1}/{total}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
                           f"approach = {record.approach:.4g} m  iterations = {record.iterations}", end=end, flush=True)
@@ -280,3 +295,14 @@ def _check_edges(pressure, grid, time, value, control):
             f"the contact reaches the grid edge ({', '.join(edges)}) at t = {time:g} s under {control} = {value:g} "
             f"{'N' if control == 'load' else 'm'}; "
             f"the grid of size {grid.size} m cannot carry it: enlarge size or lower the {control}")
+
+
+def _check_offset(offset, reach, coordinates):
+    """The load centre must lie inside the convex hull of the cells the body can touch."""
+    x1, x2 = coordinates[0][reach], coordinates[1][reach]
+    for angle in np.linspace(0, 2 * np.pi, 180, endpoint=False):
+        direction = np.array([np.cos(angle), np.sin(angle)])
+        if direction @ np.asarray(offset) >= (x1 * direction[0] + x2 * direction[1]).max():
+            raise LoadNotCarriedError(
+                f"offset {tuple(offset)} m lies outside the area the indenter can touch (its face, within "
+                f"{np.hypot(x1, x2).max():.4g} m of the axis): no contact can carry a load there")

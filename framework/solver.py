@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ConvergenceError
+from .errors import ConvergenceError, LoadNotCarriedError
 
 
 @dataclass(frozen=True)
@@ -54,11 +54,71 @@ class ContactSolution:
     residual: float
     pressure_change: float
     success: bool
+    slopes: tuple = (0.0, 0.0)  # rigid tilt (alpha1, alpha2) of an eccentrically loaded indenter
 
 
 def _dot(a, b):
     """Sum of ``a * b`` in numpy's own loop: BLAS threads stall when the cores are busy."""
     return float(np.einsum("ij,ij->", a, b))
+
+
+class RigidModes:
+    """The indenter's rigid motions that the load fixes: ``w = delta`` or ``w = delta + a1 x1 + a2 x2``.
+
+    Without ``coordinates`` only the approach is free (the projection of
+    Polonsky & Keer removes the mean gap over the contact set). With them the
+    two tilts are free too (THEORY.md sec. 6): the projection removes the
+    least-squares plane over the contact set, and after each update the
+    pressure is corrected by a plane on the contact set so that the force and
+    both moments hold exactly.
+
+    Parameters
+    ----------
+    coordinates : tuple of ndarray, optional
+        Cell-centre coordinates ``(X1, X2)`` [m].
+    """
+
+    def __init__(self, coordinates=None):
+        self.tilt = coordinates is not None
+        if self.tilt:
+            scale = max(np.ptp(coordinates[0]), np.ptp(coordinates[1]), np.finfo(float).tiny)
+            self.scale = scale  # fit in coordinates of order one: a well-conditioned 3 x 3 system
+            self.basis = np.stack([np.ones_like(coordinates[0]), coordinates[0] / scale, coordinates[1] / scale])
+
+    def fit(self, field, contact, box=(slice(None), slice(None))):
+        """Least-squares rigid displacement of ``field`` over ``contact``: (field of it, coefficients)."""
+        if not self.tilt:
+            mean = np.mean(field, where=contact)
+            return mean, (mean, 0.0, 0.0)
+        basis = self.basis[(slice(None),) + box]
+        selected = basis[:, contact]
+        coefficients = np.linalg.lstsq(selected @ selected.T, selected @ field[contact], rcond=None)[0]
+        return np.tensordot(coefficients, basis, axes=1), coefficients
+
+    def slopes(self, coefficients):
+        """Tilt slopes ``(alpha1, alpha2)`` of fitted coefficients."""
+        return (coefficients[1] / self.scale, coefficients[2] / self.scale) if self.tilt else (0.0, 0.0)
+
+    def restore(self, pressure, targets, cell_area):
+        """Scale and correct ``pressure`` in place so that its resultants equal ``targets``."""
+        total = pressure.sum() * cell_area
+        if total <= 0:
+            return False
+        pressure *= targets[0] / total
+        if not self.tilt:
+            return True
+        for _ in range(20):
+            contact = pressure > 0
+            selected = self.basis[:, contact]
+            gram = selected @ selected.T * cell_area
+            missing = targets - selected @ pressure[contact] * cell_area
+            if np.abs(missing).max() <= 1e-13 * targets[0]:
+                return True
+            if contact.sum() < 3 or np.linalg.cond(gram) > 1e12:
+                return False
+            pressure[contact] += np.linalg.solve(gram, missing) @ selected
+            np.maximum(pressure, 0.0, out=pressure)
+        return True
 
 
 def _residual(gap, contact, displacement):
@@ -69,7 +129,7 @@ def _residual(gap, contact, displacement):
 
 
 def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initial=None,
-                 options=SolverOptions(), window=None, apply_window=None):
+                 options=SolverOptions(), window=None, apply_window=None, offset=None, coordinates=None):
     """Solve the frictionless normal contact by conjugate gradients.
 
     Parameters
@@ -94,6 +154,10 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         outside the box, on the box. The conjugate direction lives on the
         contact set and its response is only needed there, so this saves most
         of one of the two convolutions per iteration.
+    offset, coordinates : tuple, optional
+        Load control only: the load acts at ``offset = (e1, e2)`` [m] from the
+        origin, and the indenter tilts; ``coordinates`` are the cell centres
+        ``(X1, X2)`` [m]. The solution's ``slopes`` are the tilts.
 
     Returns
     -------
@@ -101,6 +165,12 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     """
     base_gap = np.asarray(base_gap, dtype=float)
     load_control = load is not None
+    modes = RigidModes(coordinates if offset is not None else None)
+    targets = None
+    if load_control:
+        targets = np.array([load, 0.0, 0.0])
+        if modes.tilt:
+            targets = load * np.array([1.0, offset[0] / modes.scale, offset[1] / modes.scale])
     touch = base_gap.min()
     if (load_control and load == 0.0) or (not load_control and approach <= touch):
         zero = np.zeros_like(base_gap)
@@ -110,22 +180,33 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     if initial is not None and np.any(initial > 0):
         pressure = np.array(initial, dtype=float)
     elif load_control:
+        # Uniform over the cells that can plausibly touch: those within a few times the displacement
+        # of the load spread over the grid (a punch's walls would otherwise dominate the first steps).
         pressure = np.full(base_gap.shape, load / (base_gap.size * cell_area))
+        scale = apply(pressure).max()  # zero on a doubly periodic grid, where the mean carries no displacement
+        if scale > 0:
+            pressure = np.where(base_gap <= touch + 4.0 * scale, pressure, 0.0)
     else:  # the interpenetration, scaled so that its displacement matches it at the peak
         pressure = np.maximum(approach - base_gap, 0.0)
         pressure *= (approach - touch) / apply(pressure).max()
-    if load_control:
-        pressure *= load / (pressure.sum() * cell_area)
+    if load_control and not modes.restore(pressure, targets, cell_area):
+        raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
 
+    coefficients = (0.0, 0.0, 0.0)
     direction = np.zeros_like(pressure)
     norm_old, conjugate = 1.0, False
-    change, residual = np.inf, np.inf
+    change, residual, stalled = np.inf, np.inf, 0
     for iteration in range(options.max_iterations + 1):
         displacement = apply(pressure)
         gap = base_gap + displacement
         contact = pressure > 0
-        delta = np.mean(gap, where=contact) if load_control else approach
-        gap -= delta
+        if load_control:
+            rigid, coefficients = modes.fit(gap, contact)
+            delta = coefficients[0]
+            gap -= rigid
+        else:
+            delta = approach
+            gap -= delta
         if change < options.tolerance or iteration == options.max_iterations:
             residual = _residual(gap, contact, displacement)
             if residual < options.residual_tolerance or iteration == options.max_iterations:
@@ -143,8 +224,10 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
             box = window(contact)
             response = apply_window(direction[box], box)
         if load_control:
-            response -= np.mean(response, where=contact[box])
+            response -= modes.fit(response, contact[box], box)[0]
         curvature = _dot(response, direction[box])
+        # A direction that rounding has swamped (or a gap already flat over the contact set) takes no
+        # step; the re-entry below may still change the contact set.
         step = _dot(gap_c, direction) / curvature if curvature > 0 else 0.0
         previous = pressure
         pressure = previous - step * direction
@@ -154,17 +237,22 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         conjugate = not overlap.any()
         if not conjugate:
             pressure[overlap] -= step * gap[overlap]
-        if load_control:
-            total = pressure.sum() * cell_area
-            if total <= 0:
-                pressure = np.where(gap < 0, -gap, 0.0) + previous * 0.5
-                total = pressure.sum() * cell_area
-            pressure *= load / total
+        if load_control and not modes.restore(pressure, targets, cell_area):
+            pressure = np.where(gap < 0, -gap, 0.0) + previous * 0.5
+            if not modes.restore(pressure, targets, cell_area):
+                raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
         change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
+        if step == 0.0 and conjugate:
+            stalled += 1
+            if stalled > 2:  # no step, nothing re-entered, several times: report the stall
+                break
+        else:
+            stalled = 0
 
     success = change < options.tolerance and residual < options.residual_tolerance
     solution = ContactSolution(pressure, displacement, gap, float(delta), float(pressure.sum() * cell_area),
-                               iteration, float(residual), float(change), bool(success))
+                               iteration, float(residual), float(change), bool(success),
+                               tuple(float(a) for a in modes.slopes(coefficients)))
     if not success and options.raise_on_failure:
         raise ConvergenceError(
             f"contact solver stopped after {iteration} iterations with pressure change {change:.3g} "
@@ -172,3 +260,9 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
             f"(tolerance {options.residual_tolerance:g}); raise max_iterations or loosen the tolerances",
             result=solution)
     return solution
+
+
+def _not_carried(load, offset, contact):
+    return (f"the load {load:g} N at offset {tuple(offset) if offset is not None else (0, 0)} m cannot be carried: "
+            f"the contact shrank to {int(contact.sum())} cells; the load centre must lie well inside the area "
+            f"the body can touch (for a flat punch, inside its face)")

@@ -1,0 +1,207 @@
+"""Scenario files (TOML): every public object, checked before anything runs.
+
+A scenario has the tables ``[grid]``, ``[material]``, ``[indenter]``,
+``[schedule]`` and optionally ``[options]`` and ``[output]``. Objects are
+written as ``type = "ClassName"`` plus their keyword arguments (the same form
+as :func:`framework.config.describe`); a material may instead name a preset
+(``preset = "PMMA"``). Times are a list or a range table
+``{start, stop, count, spacing = "geometric" | "linear", zero = true}``.
+See ``examples/*.toml``.
+
+Any mistake raises :class:`ScenarioError` naming the file, the key and the
+problem.
+"""
+import dataclasses
+import os
+
+import numpy as np
+
+from . import materials
+from .config import build
+from .errors import FrameworkError, ParameterError
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
+
+TABLES = {"grid", "material", "indenter", "schedule", "options", "output"}
+REQUIRED = ("grid", "material", "indenter", "schedule")
+PRESETS = {"PMMA": lambda: materials.PMMA}
+OUTPUT_KEYS = {"vtu", "steps", "pictures", "history", "summary"}
+PICTURE_KEYS = {"field", "step", "kind", "file"}
+
+
+class ScenarioError(FrameworkError, ValueError):
+    """A scenario file is malformed: the message names the key and the problem."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Output:
+    """What a scenario run writes besides ``summary.csv``.
+
+    Parameters
+    ----------
+    vtu : bool
+        VTU/PVD series for ParaView.
+    steps : str or list of int
+        ``"all"`` or the step indices to export.
+    pictures : tuple of dict
+        Off-screen pictures: ``{field, step=-1, kind="map", file=None}``.
+    history : tuple of str
+        Series for ``history.png`` (empty: no plot).
+    """
+
+    vtu: bool = True
+    steps: object = "all"
+    pictures: tuple = ()
+    history: tuple = ("contact_radius", "approach", "max_pressure")
+
+
+@dataclasses.dataclass
+class Scenario:
+    """A parsed scenario: the simulation to run and what to write."""
+
+    simulation: object
+    output: Output
+    source: str
+
+
+def _times(value, name):
+    if isinstance(value, dict):
+        unknown = set(value) - {"start", "stop", "count", "spacing", "zero"}
+        if unknown:
+            raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)}; expected start, stop, count, "
+                                 f"spacing, zero")
+        for key in ("start", "stop", "count"):
+            if key not in value:
+                raise ParameterError(f"{name}: missing required key {key!r}")
+        spacing = value.get("spacing", "geometric")
+        if spacing not in ("geometric", "linear"):
+            raise ParameterError(f"{name}.spacing: expected 'geometric' or 'linear', got {spacing!r}")
+        if not isinstance(value["count"], int) or value["count"] < 1:
+            raise ParameterError(f"{name}.count: expected an integer >= 1, got {value['count']!r}")
+        space = np.geomspace if spacing == "geometric" else np.linspace
+        try:
+            times = space(float(value["start"]), float(value["stop"]), value["count"])
+        except (TypeError, ValueError) as exc:
+            raise ParameterError(f"{name}: start and stop must be numbers (> 0 for geometric), got "
+                                 f"{value['start']!r} and {value['stop']!r}") from exc
+        if not np.all(np.isfinite(times)):
+            raise ParameterError(f"{name}: geometric spacing needs start and stop > 0, got {value['start']!r}")
+        return np.concatenate([[0.0], times]) if value.get("zero", False) else times
+    return value
+
+
+def _history(value, name):
+    if isinstance(value, dict):
+        return build(value, name=name)
+    return value
+
+
+def _material(table):
+    if "preset" in table:
+        unknown = set(table) - {"preset", "poisson"}
+        if unknown:
+            raise ParameterError(f"material: unknown key(s) {sorted(unknown)} with a preset; expected poisson")
+        preset = table["preset"]
+        if preset not in PRESETS:
+            raise ParameterError(f"material.preset: unknown preset {preset!r}; expected one of {sorted(PRESETS)}")
+        material = PRESETS[preset]()
+        if "poisson" in table:
+            material = materials.Viscoelastic.from_prony(e_inf=material.e_inf, terms=material.terms,
+                                                         poisson=table["poisson"])
+        return material
+    if table.get("type") == "Viscoelastic" and "j0" in table:
+        unknown = set(table) - {"type", "j0", "terms", "poisson"}
+        if unknown:
+            raise ParameterError(f"material: unknown key(s) {sorted(unknown)}; expected j0, terms, poisson")
+        try:
+            return materials.Viscoelastic.from_creep(j0=table["j0"], terms=table.get("terms", []),
+                                                     poisson=table.get("poisson"))
+        except ParameterError as exc:
+            raise ParameterError(f"material: {exc}") from exc
+    return build(table, name="material")
+
+
+def _output(table):
+    unknown = set(table) - OUTPUT_KEYS
+    if unknown:
+        raise ParameterError(f"output: unknown key(s) {sorted(unknown)}; expected some of {sorted(OUTPUT_KEYS)}")
+    pictures = table.get("pictures", [])
+    if not isinstance(pictures, list):
+        raise ParameterError(f"output.pictures: expected a list of tables, got {type(pictures).__name__}")
+    for i, picture in enumerate(pictures):
+        if not isinstance(picture, dict) or "field" not in picture:
+            raise ParameterError(f"output.pictures[{i}]: expected a table with a 'field', got {picture!r}")
+        unknown = set(picture) - PICTURE_KEYS
+        if unknown:
+            raise ParameterError(f"output.pictures[{i}]: unknown key(s) {sorted(unknown)}; expected some of "
+                                 f"{sorted(PICTURE_KEYS)}")
+    steps = table.get("steps", "all")
+    if steps != "all" and not (isinstance(steps, list) and all(isinstance(s, int) for s in steps)):
+        raise ParameterError(f"output.steps: expected \"all\" or a list of step indices, got {steps!r}")
+    for key in ("vtu", "summary"):
+        if key in table and not isinstance(table[key], bool):
+            raise ParameterError(f"output.{key}: expected true or false, got {table[key]!r}")
+    history = table.get("history", list(Output.history))
+    if not isinstance(history, list) or not all(isinstance(h, str) for h in history):
+        raise ParameterError(f"output.history: expected a list of series names, got {history!r}")
+    return Output(vtu=table.get("vtu", True), steps=steps, pictures=tuple(pictures), history=tuple(history))
+
+
+def parse(data, source="<scenario>"):
+    """A :class:`Scenario` from the parsed TOML tables ``data``."""
+    from .simulation import Simulation
+    try:
+        unknown = set(data) - TABLES
+        if unknown:
+            raise ParameterError(f"unknown table(s) {sorted(unknown)}; expected some of {sorted(TABLES)}")
+        for key in REQUIRED:
+            if key not in data:
+                raise ParameterError(f"missing required table [{key}]")
+        for key in TABLES & set(data):
+            if not isinstance(data[key], dict):
+                raise ParameterError(f"{key}: expected a table, got {type(data[key]).__name__}")
+        grid = build(dict(data["grid"], type="Grid"), name="grid")
+        material = _material(data["material"])
+        if "type" not in data["indenter"]:
+            raise ParameterError("indenter: missing required key 'type' (Sphere, FlatPunch, RoundedFlatPunch, "
+                                 "Cylinder, HeightMap)")
+        indenter = build(data["indenter"], name="indenter")
+        schedule = dict(data["schedule"])
+        schedule.setdefault("type", "Static")
+        if "times" in schedule:
+            schedule["times"] = _times(schedule["times"], "schedule.times")
+        for key in ("load", "approach"):
+            if key in schedule:
+                schedule[key] = _history(schedule[key], f"schedule.{key}")
+        schedule = build(schedule, name="schedule")
+        options = data.get("options")
+        output = _output(data.get("output", {}))
+        simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
+                                options=options)
+    except ParameterError as exc:
+        raise ScenarioError(f"{source}: {exc}") from exc
+    return Scenario(simulation=simulation, output=output, source=source)
+
+
+def read(path, cells=None):
+    """Read and check a scenario file; ``cells`` replaces the grid's shape by ``cells x cells``."""
+    if not os.path.isfile(path):
+        raise ScenarioError(f"{path}: no such scenario file")
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{path}: not valid TOML: {exc}") from exc
+    if cells is not None and isinstance(data.get("grid"), dict):
+        data["grid"]["shape"] = [cells, cells]
+    return parse(data, source=path)
+
+
+def demo_path():
+    """Path of the built-in default scenario."""
+    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios", "demo.toml")
+
+
