@@ -7,10 +7,11 @@ recursions. See README.md for the two commands and a scripting example.
 from . import errors, fft, indenters, loads, materials, reference, schedules
 from ._version import __version__
 from .grid import Grid
+from .io import load_result
 from .result import Result, StepRecord
 from .simulation import Options, Simulation
 from .solver import ContactSolution, SolverOptions, solve_normal
 
-__all__ = ["Grid", "Options", "Result", "Simulation", "SolverOptions", "ContactSolution", "StepRecord",
+__all__ = ["load_result", "Grid", "Options", "Result", "Simulation", "SolverOptions", "ContactSolution", "StepRecord",
            "solve_normal", "errors", "fft", "indenters", "loads", "materials", "reference", "schedules",
            "__version__"]

@@ -30,8 +30,25 @@ def write_summary(result, path):
     os.replace(temporary, path)
 
 
-def run_scenario(scenario, out, *, progress=True):
-    """Run a parsed scenario, writing as each step finishes; returns (result, files written)."""
+def print_table(result, rows=12):
+    """The per-step figures a user looks at first (first and last steps of long runs)."""
+    print(f"{'step':>5} {'time s':>10} {'load N':>10} {'approach m':>12} {'radius m':>11} {'p max Pa':>11} "
+          f"{'tilt rad':>10} {'iter':>5}")
+    steps = range(len(result))
+    if len(result) > rows:
+        steps = list(range(rows // 2)) + list(range(len(result) - rows // 2, len(result)))
+    for k in steps:
+        print(f"{k:5d} {result.times[k]:10.4g} {result.load[k]:10.4g} {result.approach[k]:12.5g} "
+              f"{result.contact_radius[k]:11.4g} {result.max_pressure[k]:11.4g} {result.tilt[k, 0]:10.3g} "
+              f"{result.iterations[k]:5d}")
+
+
+def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
+    """Run a parsed scenario, writing as each step finishes; returns (result, files written, seconds).
+
+    ``checkpoint.h5`` is rewritten every ``every`` steps; at the end ``result.h5``
+    replaces it. ``resume`` continues from ``checkpoint.h5``.
+    """
     output = scenario.output
     viz = None
     if output.vtu or output.pictures or output.history:
@@ -40,22 +57,45 @@ def run_scenario(scenario, out, *, progress=True):
         except ImportError as exc:
             raise FrameworkError(f"this scenario writes VTU files or pictures, which need the viz extra: "
                                  f"pip install 'viscocontact[viz]' ({exc})") from exc
+    checkpoint = os.path.join(out, "checkpoint.h5")
+    if resume and not os.path.isfile(checkpoint):
+        raise FrameworkError(f"--resume: no checkpoint to resume in {out!r} (expected {checkpoint})")
     os.makedirs(out, exist_ok=True)
     marker = os.path.join(out, "INCOMPLETE")
     with open(marker, "w") as f:
         f.write(f"run of {scenario.source} in progress or failed; the files here hold the finished steps only\n")
     summary = os.path.join(out, "summary.csv")
-    exporter = viz.Exporter(out) if output.vtu else None
-    wanted = None if output.steps == "all" else set(output.steps)
+    total = len(scenario.simulation.schedule.times)
+
+    def resolve(steps):
+        return None if steps == "all" else {step % total for step in steps}
+
+    exporters = []
+    if output.vtu:
+        exporters.append((viz.Exporter(out, volume=False), resolve(output.steps)))
+        grid = scenario.simulation.grid
+        if grid.layers and sum(grid.periodic) != 1:
+            exporters.append((viz.Exporter(out, surface=False, indenter=False, volume=True, single=output.single),
+                              resolve(output.volume_steps)))
 
     def on_step(result, record):
-        if exporter is not None and (wanted is None or record.index in wanted):
-            exporter.write(result, record.index)
+        for exporter, wanted in exporters:
+            if wanted is None or record.index in wanted:
+                exporter.write(result, record.index)
         write_summary(result, summary)
 
     start = time.perf_counter()
-    result = scenario.simulation.run(progress=progress, callback=on_step)
+    result = scenario.simulation.run(progress=progress, callback=on_step, checkpoint=checkpoint, every=every,
+                                     resume=checkpoint if resume else None)
     elapsed = time.perf_counter() - start
+    if resume:  # the steps finished before the interruption
+        for exporter, wanted in exporters:
+            for record in result.records:
+                if (wanted is None or record.index in wanted) and record.index not in exporter.steps:
+                    exporter.write(result, record.index)
+        write_summary(result, summary)
+    result.save(os.path.join(out, "result.h5"))
+    os.remove(checkpoint)
     for picture in output.pictures:
         name = picture.get("file") or f"{picture['field']}_{picture.get('kind', 'map')}.png"
         viz.render(result, os.path.join(out, name), field=picture["field"], step=picture.get("step", -1),
@@ -81,6 +121,8 @@ def main(argv=None):
         command.add_argument("--cells", type=int, default=None,
                              help="replace the grid by CELLS x CELLS cells of the same size (a quick look)")
         command.add_argument("--quiet", action="store_true", help="no progress lines")
+    run.add_argument("--resume", action="store_true", help="continue a killed run from DIR/checkpoint.h5")
+    run.add_argument("--every", type=int, default=10, help="steps between checkpoints (default: 10)")
     check = commands.add_parser("check", help="check a scenario file without running it")
     check.add_argument("scenario")
     args = parser.parse_args(argv)
@@ -91,10 +133,13 @@ def main(argv=None):
             print(f"{path}: ok ({len(scenario.simulation.schedule.times)} steps on a "
                   f"{scenario.simulation.grid.shape} grid)")
             return 0
-        result, written, elapsed = run_scenario(scenario, args.out, progress=not getattr(args, "quiet", False))
+        result, written, elapsed = run_scenario(scenario, args.out, progress=not args.quiet,
+                                                resume=getattr(args, "resume", False),
+                                                every=getattr(args, "every", 10))
     except FrameworkError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    print_table(result)
     print(f"{len(result)} steps in {elapsed:.1f} s; wrote {len(written)} files to {args.out}:")
     for path in written:
         print(f"  {path}")

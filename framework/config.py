@@ -30,8 +30,9 @@ def describe(obj):
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         out = {"type": type(obj).__name__}
         for f in dataclasses.fields(obj):
-            if f.init:
-                out[f.name] = describe(getattr(obj, f.name))
+            value = getattr(obj, f.name)
+            if f.init and value is not None:  # None means "the default": leave it out
+                out[f.name] = describe(value)
         return out
     if isinstance(obj, np.ndarray):
         return obj.tolist()

@@ -25,6 +25,9 @@ except ImportError:  # pragma: no cover
 
 THREADS = int(os.environ.get("FRAMEWORK_FFT_THREADS", 1))
 _backend = "pyfftw" if pyfftw is not None else "scipy"
+if os.environ.get("FRAMEWORK_FFT_BACKEND") in ("scipy", "pyfftw") and (pyfftw is not None
+                                                                     or os.environ["FRAMEWORK_FFT_BACKEND"] == "scipy"):
+    _backend = os.environ["FRAMEWORK_FFT_BACKEND"]
 _plans = {}
 
 

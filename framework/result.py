@@ -179,9 +179,18 @@ class Result:
     def configuration(self):
         """The run's full configuration as plain data (see :func:`framework.config.describe`)."""
         from .config import describe
+        from .indenters import HeightMap
+        indenter = self.indenter
+        if isinstance(indenter, HeightMap) and callable(indenter.heights):
+            indenter = HeightMap(indenter.on_grid(self.grid))  # a function cannot be stored: its values can
         return {"framework_version": self.version, "grid": describe(self.grid), "material": describe(self.material),
-                "indenter": describe(self.indenter), "schedule": describe(self.schedule),
+                "indenter": describe(indenter), "schedule": describe(self.schedule),
                 "options": describe(self.options)}
+
+    def save(self, path):
+        """Write everything to the HDF5 file ``path`` (read back with :func:`framework.load_result`)."""
+        from .io import save
+        save(self, path)
 
     def summary(self):
         """Per-step scalar table as a dict of arrays."""

@@ -28,7 +28,7 @@ except ModuleNotFoundError:  # Python 3.10
 TABLES = {"grid", "material", "indenter", "schedule", "options", "output"}
 REQUIRED = ("grid", "material", "indenter", "schedule")
 PRESETS = {"PMMA": lambda: materials.PMMA}
-OUTPUT_KEYS = {"vtu", "steps", "pictures", "history", "summary"}
+OUTPUT_KEYS = {"vtu", "steps", "volume_steps", "single", "pictures", "history", "summary"}
 PICTURE_KEYS = {"field", "step", "kind", "file"}
 
 
@@ -45,7 +45,11 @@ class Output:
     vtu : bool
         VTU/PVD series for ParaView.
     steps : str or list of int
-        ``"all"`` or the step indices to export.
+        ``"all"`` or the step indices (negative: from the end) of the surface and indenter files.
+    volume_steps : str or list of int
+        The same for the subsurface volumes (large: tens of MB per step on fine grids).
+    single : bool
+        Volumes in float32 (half the size).
     pictures : tuple of dict
         Off-screen pictures: ``{field, step=-1, kind="map", file=None}``.
     history : tuple of str
@@ -54,6 +58,8 @@ class Output:
 
     vtu: bool = True
     steps: object = "all"
+    volume_steps: object = "all"
+    single: bool = False
     pictures: tuple = ()
     history: tuple = ("contact_radius", "approach", "max_pressure")
 
@@ -138,16 +144,19 @@ def _output(table):
         if unknown:
             raise ParameterError(f"output.pictures[{i}]: unknown key(s) {sorted(unknown)}; expected some of "
                                  f"{sorted(PICTURE_KEYS)}")
-    steps = table.get("steps", "all")
-    if steps != "all" and not (isinstance(steps, list) and all(isinstance(s, int) for s in steps)):
-        raise ParameterError(f"output.steps: expected \"all\" or a list of step indices, got {steps!r}")
-    for key in ("vtu", "summary"):
+    for key in ("steps", "volume_steps"):
+        steps = table.get(key, "all")
+        if steps != "all" and not (isinstance(steps, list) and all(isinstance(s, int) for s in steps)):
+            raise ParameterError(f"output.{key}: expected \"all\" or a list of step indices, got {steps!r}")
+    for key in ("vtu", "summary", "single"):
         if key in table and not isinstance(table[key], bool):
             raise ParameterError(f"output.{key}: expected true or false, got {table[key]!r}")
     history = table.get("history", list(Output.history))
     if not isinstance(history, list) or not all(isinstance(h, str) for h in history):
         raise ParameterError(f"output.history: expected a list of series names, got {history!r}")
-    return Output(vtu=table.get("vtu", True), steps=steps, pictures=tuple(pictures), history=tuple(history))
+    return Output(vtu=table.get("vtu", True), steps=table.get("steps", "all"),
+                  volume_steps=table.get("volume_steps", "all"), single=table.get("single", False),
+                  pictures=tuple(pictures), history=tuple(history))
 
 
 def parse(data, source="<scenario>"):
@@ -179,6 +188,17 @@ def parse(data, source="<scenario>"):
         schedule = build(schedule, name="schedule")
         options = data.get("options")
         output = _output(data.get("output", {}))
+        total = len(schedule.times)
+        for key in ("steps", "volume_steps"):
+            steps = getattr(output, key)
+            if steps != "all" and any(not -total <= step < total for step in steps):
+                raise ParameterError(f"output.{key}: step indices must lie in [-{total}, {total}) for the "
+                                     f"{total} output times, got {steps!r}")
+        for i, picture in enumerate(output.pictures):
+            step = picture.get("step", -1)
+            if not isinstance(step, int) or not -total <= step < total:
+                raise ParameterError(f"output.pictures[{i}].step: expected an index in [-{total}, {total}), "
+                                     f"got {step!r}")
         simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
                                 options=options)
     except ParameterError as exc:

@@ -125,6 +125,15 @@ class PronyRecursion:
             field = field + self.series.flow * (state.integral + 0.5 * dt * state.pressure)
         return compliance, field
 
+    def snapshot(self):
+        """The history as arrays (for a checkpoint)."""
+        state = self.state
+        return {"time": state.time, "pressure": state.pressure, "fields": state.fields, "integral": state.integral}
+
+    def restore(self, snapshot):
+        self.state = HistoryState(float(snapshot["time"]), snapshot["pressure"], snapshot["fields"],
+                                  snapshot["integral"])
+
     def commit(self, time, pressure):
         state = self.state
         if len(self.coefficients) or self.series.flow:
@@ -159,6 +168,12 @@ class HereditarySum:
     def commit(self, time, pressure):
         self.times.append(time)
         self.pressures.append(pressure)
+
+    def snapshot(self):
+        return {"times": np.array(self.times), "pressures": np.array(self.pressures)}
+
+    def restore(self, snapshot):
+        self.times, self.pressures = list(snapshot["times"]), list(snapshot["pressures"])
 
 
 def _stations(schedule):
@@ -210,20 +225,28 @@ class Simulation:
         self.options = Options.from_value(options)
         self.result = None
 
-    def steps(self):
-        """Run step by step, yielding a :class:`StepRecord` at every output time."""
+    def steps(self, state=None):
+        """Run step by step, yielding a :class:`StepRecord` at every output time.
+
+        ``state`` (from a checkpoint) continues a run where it stopped.
+        """
         grid, options = self.grid, self.options
         heights = self.indenter.on_grid(grid)
         operator = SurfaceCompliance(grid)
         series = self.material.contact_compliance()
         integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
+        self._integrator, start, index = integrator, 0, 0
+        if state is not None:
+            integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")})
+            start, index = int(state["station"]), int(state["index"])
         load_control = self.schedule.control == "load"
         offset = getattr(self.schedule, "offset", None)
         coordinates = grid.coordinates() if offset is not None else None
         if offset is not None:
             _check_offset(offset, self.indenter.reach(grid), coordinates)
-        index = 0
-        for time, value, recorded in _stations(self.schedule):
+        for number, (time, value, recorded) in enumerate(_stations(self.schedule)):
+            if number < start:
+                continue
             compliance, memory = integrator.prepare(time)
             if compliance <= 0 and (value > 0 or integrator.pressure.any()):
                 raise ParameterError(
@@ -241,6 +264,7 @@ class Simulation:
             if options.check_edges:
                 _check_edges(solution.pressure, grid, time, value, self.schedule.control)
             integrator.commit(time, solution.pressure)
+            self._position = (number + 1, index + int(recorded))
             if recorded:
                 yield StepRecord(index=index, time=time, load=solution.load, approach=solution.approach,
                                  pressure=solution.pressure,
@@ -249,7 +273,7 @@ class Simulation:
                                  success=solution.success, tilt=tuple(np.arctan(solution.slopes)))
                 index += 1
 
-    def run(self, progress=False, callback=None):
+    def run(self, progress=False, callback=None, checkpoint=None, every=10, resume=None):
         """Run every step and return the :class:`Result`.
 
         Parameters
@@ -259,21 +283,44 @@ class Simulation:
         callback : callable, optional
             ``callback(result, record)`` after each finished step (e.g. to write
             it to disk at once).
+        checkpoint : str, optional
+            HDF5 file rewritten every ``every`` steps and at the end with the
+            finished steps and the stepper's history (atomic renames).
+        every : int
+            Steps between checkpoints.
+        resume : str, optional
+            A checkpoint of this same configuration: continue from it. The
+            result equals the one of an uninterrupted run.
 
         If a step fails, the exception carries the finished steps as
         ``exc.partial_result`` (also kept in ``self.result``).
         """
+        from . import io
         self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options)
+        state = None
+        if resume is not None:
+            state = self._resume(resume, result)
+            if state is None:  # a finished run: nothing left to do
+                return result
         total = len(self.schedule.times)
         end = "\r" if sys.stdout.isatty() else "\n"
+
+        def save():
+            position = self._position
+            io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1]))
+
         try:
-            for record in self.steps():
+            for record in self.steps(state):
                 result.append(record)
                 if callback is not None:
                     callback(result, record)
+                if checkpoint is not None and len(result) % every == 0:
+                    save()
                 if progress:
                     print(f"step {record.index + 1}/{total}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
                           f"approach = {record.approach:.4g} m  iterations = {record.iterations}", end=end, flush=True)
+            if checkpoint is not None and hasattr(self, "_position"):
+                save()
         except FrameworkError as exc:
             exc.partial_result = result
             raise
@@ -281,6 +328,23 @@ class Simulation:
             if progress and end == "\r":
                 print()
         return result
+
+    def _resume(self, path, result):
+        """Load the finished steps of a checkpoint into ``result``; return the stepper state (None: done)."""
+        import json
+        from . import io
+        configuration, records, state = io.read(path)
+        mine = result.configuration()
+        differing = sorted(key for key in mine if key != "framework_version"
+                           and json.dumps(mine[key]) != json.dumps(configuration.get(key)))
+        if differing:
+            raise ParameterError(f"resume: the checkpoint {path!r} was written for another configuration "
+                                 f"({', '.join(differing)} differ); run it with its own scenario or start afresh")
+        for record in records:
+            result.append(record)
+        if state is None or int(state["station"]) >= len(_stations(self.schedule)):
+            return None
+        return state
 
 
 def _check_edges(pressure, grid, time, value, control):

@@ -1,5 +1,26 @@
 """Visualisation layer: reads framework results, never the other way round.
 
-ParaView export and off-screen pictures arrive with the export issue; the core
-(``framework``) does not import this package.
+The core (``framework``) does not import this package, and importing it needs
+none of the optional packages: vtk/pyvista, meshio and matplotlib are imported
+when a function needs them (``pip install 'viscocontact[viz]'``).
+
+* :func:`export` / :class:`Exporter` (:mod:`viz.export`): ParaView files, per
+  step ``surface_NNNN.vtu`` (deformed surface, quads), ``volume_NNNN.vtu``
+  (subsurface stresses, hexahedra) and ``indenter_NNNN.vtu``, with
+  ``surface.pvd``, ``volume.pvd`` and ``indenter.pvd`` time collections in
+  physical time; :class:`Exporter` streams step by step.
+* :func:`render` (:mod:`viz.render`): off-screen PNG pictures of one step, a
+  pressure map, the deformed surface in 3-D or a subsurface stress slice.
+* :func:`plot_history` (:mod:`viz.plot`): per-step series against time, load
+  or approach (matplotlib).
+* :mod:`viz.meshes`: the same meshes in memory (pyvista), with the geometry,
+  cell numbering and stress frame conventions.
+
+Geometry: z points UP out of the solid (the solid is ``z <= 0``), layer
+centres at ``z = -x3``, the deformed surface at ``z = -u3``; SI units.
 """
+from .export import Exporter, export
+from .plot import plot_history
+from .render import Rendering, render
+
+__all__ = ["export", "Exporter", "render", "Rendering", "plot_history"]

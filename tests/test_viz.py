@@ -1,0 +1,247 @@
+"""viz: ParaView export round trips (pyvista and meshio), streaming, pictures and history plots."""
+import json
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+pv = pytest.importorskip("pyvista")
+meshio = pytest.importorskip("meshio")
+pytest.importorskip("matplotlib")
+
+import framework  # noqa: E402
+from framework import Grid, Simulation, indenters, materials, schedules  # noqa: E402
+from framework.demo import build  # noqa: E402
+from framework.errors import ParameterError  # noqa: E402
+from viz import Exporter, export, plot_history, render  # noqa: E402
+from viz import meshes  # noqa: E402
+
+STEP = 5
+
+
+@pytest.fixture(scope="module")
+def result():
+    """The demo (PMMA creeping under a ball, 17 steps) on 17 x 17 cells."""
+    return build(17).run()
+
+
+@pytest.fixture(scope="module")
+def elastic():
+    """An elastic ball at two loads on an even grid without layers."""
+    sim = Simulation(grid=Grid(shape=(16, 16), size=(1e-3, 1e-3)),
+                     material=materials.Elastic(young=2e9, poisson=0.35),
+                     indenter=indenters.Sphere(radius=5e-3), schedule=schedules.Static(load=[5.0, 20.0]))
+    return sim.run()
+
+
+@pytest.fixture(scope="module")
+def exported(result, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("paraview")
+    return export(result, folder), folder
+
+
+def _centres(mesh):
+    """Cell centres of a meshio mesh with one cell block."""
+    return mesh.points[mesh.cells[0].data].mean(axis=1)
+
+
+def test_pvd_collections_carry_the_physical_times(result, exported):
+    exporter, folder = exported
+    assert set(exporter.collections) == {"surface", "volume", "indenter"}
+    for path in exporter.collections.values():
+        reader = pv.get_reader(path)
+        np.testing.assert_array_equal(reader.time_values, result.times)
+    reader = pv.get_reader(exporter.collections["surface"])
+    reader.set_active_time_value(result.times[STEP])
+    block = reader.read()
+    surface = block[0] if isinstance(block, pv.MultiBlock) else block
+    np.testing.assert_array_equal(meshes.grid_order(surface.cell_data["pressure"], result.grid.shape),
+                                  result.pressure(STEP))
+    assert not [name for name in os.listdir(folder) if name.endswith(".tmp")]
+
+
+def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, exported):
+    _, folder = exported
+    grid = result.grid
+    n1, n2, n3 = grid.shape + (grid.layers,)
+    surface = meshio.read(os.path.join(folder, f"surface_{STEP:04d}.vtu"))
+    assert [(c.type, len(c.data)) for c in surface.cells] == [("quad", n1 * n2)]
+    assert surface.points.shape == ((n1 + 1) * (n2 + 1), 3)
+    pressure = meshes.grid_order(surface.cell_data["pressure"][0], grid.shape)
+    np.testing.assert_allclose(pressure, result.pressure(STEP), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(meshes.grid_order(surface.cell_data["displacement"][0], grid.shape),
+                               result.displacement(STEP), rtol=1e-12, atol=0)
+    np.testing.assert_array_equal(meshes.grid_order(surface.cell_data["contact"][0], grid.shape),
+                                  result.pressure(STEP) > 0)
+    x1, x2 = grid.coordinates()
+    centres = meshes.grid_order(_centres(surface)[:, :2], grid.shape)
+    np.testing.assert_allclose(centres[..., 0], x1, atol=1e-15)
+    np.testing.assert_allclose(centres[..., 1], x2, atol=1e-15)
+    # the deformed surface at z = -u3 averaged to the corners; `warp` leads back to z = 0
+    corners = meshes.corner_average(result.displacement(STEP))
+    np.testing.assert_allclose(surface.points[:, 2], -corners.ravel(order="F"), rtol=1e-12)
+    np.testing.assert_allclose((surface.points - surface.point_data["warp"])[:, 2], 0.0, atol=1e-18)
+
+    volume = meshio.read(os.path.join(folder, f"volume_{STEP:04d}.vtu"))
+    assert [(c.type, len(c.data)) for c in volume.cells] == [("hexahedron", n1 * n2 * n3)]
+    stress = result.stress(STEP)
+    zz = meshes.grid_order(volume.cell_data["stress_zz"][0], (n1, n2, n3))
+    np.testing.assert_allclose(zz, stress[..., 2], rtol=1e-12, atol=1e-12 * np.abs(stress).max())
+    voigt = meshes.grid_order(volume.cell_data["stress"][0], (n1, n2, n3))
+    np.testing.assert_allclose(voigt, stress * [1, 1, 1, -1, -1, 1], rtol=1e-12, atol=1e-12 * np.abs(stress).max())
+    np.testing.assert_allclose(meshes.grid_order(volume.cell_data["von_mises"][0], (n1, n2, n3)),
+                               result.von_mises(STEP), rtol=1e-12)
+    principal = volume.cell_data["principal_stress"][0]
+    assert principal.shape == (n1 * n2 * n3, 3) and np.all(np.diff(principal, axis=1) <= 0)
+    np.testing.assert_allclose(volume.cell_data["tresca"][0], principal[:, 0] - principal[:, 2], rtol=1e-12)
+    np.testing.assert_allclose(principal.sum(axis=1), voigt[..., :3].sum(axis=-1).transpose(2, 1, 0).ravel(),
+                               atol=1e-8 * np.abs(stress).max())
+    centres = meshes.grid_order(_centres(volume), (n1, n2, n3))
+    np.testing.assert_allclose(centres[..., 2], -np.broadcast_to(grid.x3, (n1, n2, n3)), atol=1e-15)
+    np.testing.assert_allclose(centres[..., 0], np.broadcast_to(grid.x1[:, None, None], (n1, n2, n3)), atol=1e-15)
+
+    indenter = meshio.read(os.path.join(folder, f"indenter_{STEP:04d}.vtu"))
+    assert [(c.type, len(c.data)) for c in indenter.cells] == [("quad", n1 * n2)]
+    heights = result.indenter.on_grid(grid)
+    np.testing.assert_allclose(meshes.grid_order(indenter.cell_data["height"][0], grid.shape), heights)
+    np.testing.assert_allclose(indenter.points[:, 2],
+                               (meshes.corner_average(heights) - result.approach[STEP]).ravel(order="F"))
+
+
+def test_cells_are_well_oriented(exported):
+    _, folder = exported
+    volume = pv.read(os.path.join(folder, "volume_0000.vtu")).compute_cell_sizes()
+    assert volume.celltypes[0] == pv.CellType.HEXAHEDRON
+    assert volume.cell_data["Volume"].min() > 0
+    surface = pv.read(os.path.join(folder, "surface_0000.vtu"))
+    assert surface.celltypes[0] == pv.CellType.QUAD
+    normals = surface.extract_surface(algorithm="dataset_surface").compute_normals(
+        cell_normals=True, point_normals=False, auto_orient_normals=False, consistent_normals=False)
+    assert normals.cell_data["Normals"][:, 2].min() > 0.9  # up, out of the solid
+
+
+def test_every_file_carries_version_configuration_time_and_step(result, exported):
+    exporter, folder = exported
+    expected = json.loads(json.dumps(result.configuration()))
+    for name in ("surface", "volume", "indenter"):
+        path = os.path.join(folder, f"{name}_{STEP:04d}.vtu")
+        data = meshio.read(path).field_data
+        assert meshes.decode_text(data["framework_version"]) == framework.__version__
+        assert json.loads(meshes.decode_text(data["configuration"])) == expected
+        assert float(np.ravel(data["time"])[0]) == result.times[STEP]
+        assert int(np.ravel(data["step"])[0]) == STEP
+        mesh = pv.read(path)
+        assert json.loads(meshes.decode_text(mesh.field_data["configuration"]))["grid"]["layers"] == result.grid.layers
+    with open(os.path.join(folder, "configuration.json")) as f:
+        assert json.load(f)["framework_version"] == framework.__version__
+
+
+def test_streaming_leaves_the_finished_steps_readable(result, tmp_path):
+    exporter = Exporter(tmp_path)
+    for step in (0, 1):
+        written = exporter.write(result, step)
+        assert os.path.join(str(tmp_path), f"surface_{step:04d}.vtu") in written
+    for name in ("surface", "volume", "indenter"):
+        path = tmp_path / f"{name}.pvd"
+        datasets = ET.parse(path).getroot().findall("./Collection/DataSet")
+        assert [d.get("file") for d in datasets] == [f"{name}_0000.vtu", f"{name}_0001.vtu"]
+        np.testing.assert_array_equal(pv.get_reader(str(path)).time_values, result.times[:2])
+    assert meshio.read(tmp_path / "volume_0001.vtu").cells[0].type == "hexahedron"
+    assert not list(tmp_path.glob("*.tmp")) and not list(tmp_path.glob("volume_0002*"))
+    exporter.write(result, 2)
+    np.testing.assert_array_equal(pv.get_reader(str(tmp_path / "surface.pvd")).time_values, result.times[:3])
+
+
+def test_export_of_chosen_steps_and_of_a_grid_without_layers(elastic, tmp_path):
+    exporter = export(elastic, tmp_path, steps=[-1])
+    assert set(exporter.collections) == {"surface", "indenter"}
+    assert exporter.steps == [1]
+    assert sorted(os.listdir(tmp_path)) == ["configuration.json", "indenter.pvd", "indenter_0001.vtu",
+                                            "surface.pvd", "surface_0001.vtu"]
+    with pytest.raises(ParameterError, match="step"):
+        export(elastic, tmp_path, steps=[7])
+
+
+def test_corner_average_wraps_on_periodic_axes():
+    field = np.arange(12.0).reshape(3, 4)
+    corners = meshes.corner_average(field)
+    assert corners.shape == (4, 5)
+    assert corners[0, 0] == field[0, 0] and corners[1, 1] == field[:2, :2].mean()
+    periodic = meshes.corner_average(field, (True, True))
+    assert periodic[0, 0] == periodic[-1, -1] == field[[0, 0, -1, -1], [0, -1, 0, -1]].mean()
+
+
+def _colours(path):
+    from matplotlib.image import imread
+    image = imread(path)[..., :3]
+    return image, len(np.unique((image * 255).round().astype(np.uint8).reshape(-1, 3), axis=0))
+
+
+def test_pressure_map_colour_range_follows_the_load(elastic, tmp_path):
+    pictures = []
+    for step in (0, 1):
+        picture = render(elastic, tmp_path / f"map_{step}.png", "pressure", step)
+        pressure = elastic.pressure(step)
+        assert picture.scalar_range == (pressure.min(), pressure.max()) == picture.clim
+        assert picture.display_unit == "MPa" and picture.time == elastic.times[step]
+        image, colours = _colours(picture.path)
+        assert image.shape[:2] == (900, 1200) and colours > 50
+        pictures.append((picture, image))
+    (low, image_low), (high, image_high) = pictures
+    assert high.scalar_range[1] > 1.5 * low.scalar_range[1]
+    assert np.abs(image_high - image_low).max() > 0.1
+    fixed = render(elastic, tmp_path / "fixed.png", "pressure", 0, clim=high.clim)
+    assert fixed.clim == high.clim and fixed.scalar_range == low.scalar_range
+
+
+@pytest.mark.parametrize("kind, field, options", [
+    ("surface", "displacement", {"show_indenter": True}),
+    ("slice", "von_mises", {}),
+    ("slice", "stress_zz", {"clip": True, "plane": "x1"}),
+])
+def test_other_pictures_are_not_blank(result, tmp_path, kind, field, options):
+    picture = render(result, tmp_path / "picture.png", field, STEP, kind=kind, **options)
+    assert os.path.getsize(picture.path) > 10_000 and _colours(picture.path)[1] > 50
+    if kind == "surface":
+        assert picture.warp > 1
+    if kind == "slice" and not options:
+        middle = result.von_mises(STEP)[:, result.grid.shape[1] // 2, :]
+        assert picture.scalar_range == (middle.min(), middle.max())
+
+
+def test_history_plot(result, tmp_path):
+    path = plot_history(result, tmp_path / "history.png", ["contact_radius", "max_pressure", "center", "tilt"])
+    with open(path, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    assert os.path.getsize(path) > 20_000
+    assert os.path.exists(plot_history(result, tmp_path / "load.png", "approach", against="load"))
+
+
+def test_bad_names_raise_parameter_errors(result, elastic, tmp_path):
+    with pytest.raises(ParameterError, match="'strain'.*von_mises"):
+        render(result, tmp_path / "x.png", "strain", kind="slice")
+    with pytest.raises(ParameterError, match="'stress_zz'"):
+        render(result, tmp_path / "x.png", "stress_zz", kind="map")
+    with pytest.raises(ParameterError, match="'side'"):
+        render(result, tmp_path / "x.png", kind="side")
+    with pytest.raises(ParameterError, match="layers"):
+        render(elastic, tmp_path / "x.png", kind="slice")
+    with pytest.raises(ParameterError, match="clim"):
+        render(elastic, tmp_path / "x.png", clim=(1.0,))
+    with pytest.raises(ParameterError, match="step"):
+        render(elastic, tmp_path / "x.png", step=2)
+    with pytest.raises(ParameterError, match="'area'"):
+        plot_history(result, tmp_path / "x.png", ["load", "area"])
+    with pytest.raises(ParameterError, match="'force'"):
+        plot_history(result, tmp_path / "x.png", against="force")
+    assert not list(tmp_path.iterdir())
+
+
+def test_missing_extra_is_named(result, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pyvista", None)
+    with pytest.raises(ImportError, match=r"viscocontact\[viz\]"):
+        render(result, tmp_path / "x.png")
+    with pytest.raises(ImportError, match=r"viscocontact\[viz\]"):
+        export(result, tmp_path, steps=0)

@@ -1,0 +1,382 @@
+"""VTK meshes of a result: the deformed surface, the subsurface layers, the indenter.
+
+Geometry (the ParaView convention): ``x = x1``, ``y = x2`` and ``z`` pointing UP
+out of the solid, so the solid occupies ``z <= 0``, the layer centres lie at
+``z = -x3`` and the deformed surface at ``z = -u3``. Lengths in metres.
+
+Ordering: points and cells are numbered like a VTK structured grid, x1 fastest,
+then x2, then (for the volume) the layers from the surface down:
+
+* surface cell ``(i, j)`` has id ``i + n1 * j``, i.e. a ``(n1, n2)`` field
+  ``f`` is written as ``f.ravel(order="F")`` and read back with
+  ``array.reshape((n1, n2), order="F")``;
+* volume cell ``(i, j, k)`` (layer ``k``, 0 at the top) has id
+  ``i + n1 * (j + n2 * k)``; :func:`cell_order` and :func:`grid_order` convert.
+
+Stress components are given in the exported frame ``(x, y, z) = (x1, x2, -x3)``:
+``xx``, ``yy``, ``zz`` and ``xy`` equal the framework's components, while
+``yz = -sigma_23`` and ``xz = -sigma_13`` (the framework's x3 points down).
+Invariants, principal stresses, von Mises and Tresca do not depend on this.
+"""
+import json
+import warnings
+
+import numpy as np
+
+from framework.errors import ParameterError
+from framework.result import von_mises as _von_mises
+
+from . import _deps
+
+VTK_QUAD = 9
+VTK_HEXAHEDRON = 12
+
+#: Names of the six stress components in Voigt order (exported frame, z up).
+STRESS_COMPONENTS = ("stress_xx", "stress_yy", "stress_zz", "stress_yz", "stress_xz", "stress_xy")
+
+#: Sign that takes a framework Voigt vector (x3 down) to the exported frame (z up).
+FRAME_SIGN = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
+
+
+def step_index(result, step):
+    """Non-negative index of ``step`` (negative counts from the end) or ParameterError.
+
+    Parameters
+    ----------
+    result : framework.Result
+        The run.
+    step : int
+        Step index in ``[-len(result), len(result))``.
+
+    Returns
+    -------
+    int
+        The index in ``[0, len(result))``.
+    """
+    n = len(result)
+    if not isinstance(step, (int, np.integer)) or isinstance(step, bool) or not -n <= step < n:
+        raise ParameterError(f"step must be an integer index in [-{n}, {n}) (the result has {n} steps), "
+                             f"got {step!r}")
+    return int(step) % n
+
+
+def cell_order(field, spatial=None):
+    """Flatten a cell field ``(n1, n2[, layers][, components])`` to VTK cell order.
+
+    Parameters
+    ----------
+    field : ndarray
+        Per-cell values with the spatial axes first: ``(n1, n2)`` or
+        ``(n1, n2, layers)``, optionally followed by component axes.
+    spatial : int, optional
+        How many leading axes are spatial (2 or 3); all of them by default.
+
+    Returns
+    -------
+    ndarray
+        ``(n_cells,)`` or ``(n_cells, components)``, x1 fastest.
+    """
+    field = np.asarray(field)
+    return _cell_order(field, field.ndim if spatial is None else spatial)
+
+
+def _cell_order(field, spatial):
+    axes = tuple(range(spatial))[::-1] + tuple(range(spatial, field.ndim))
+    out = np.transpose(field, axes)
+    return out.reshape((-1,) + field.shape[spatial:])
+
+
+def grid_order(array, shape):
+    """Inverse of :func:`cell_order`: VTK cell order back to ``shape`` (spatial axes first).
+
+    Parameters
+    ----------
+    array : array_like
+        ``(n_cells,)`` or ``(n_cells, components)`` values as read from a file.
+    shape : tuple of int
+        Spatial shape, ``(n1, n2)`` or ``(n1, n2, layers)``.
+
+    Returns
+    -------
+    ndarray
+        ``shape + (components,)`` (no component axis for scalars).
+    """
+    array = np.asarray(array)
+    rest = array.shape[1:]
+    out = array.reshape(tuple(shape)[::-1] + rest)
+    return np.transpose(out, tuple(range(len(shape)))[::-1] + tuple(range(len(shape), out.ndim)))
+
+
+def corner_average(field, periodic=(False, False)):
+    """Values at the cell corners, the mean of the (up to four) adjacent cells.
+
+    Parameters
+    ----------
+    field : ndarray
+        ``(n1, n2)`` cell values.
+    periodic : tuple of bool
+        Per axis: wrap around (the corners on the two edges then agree) or
+        average only the cells that exist (edge padding).
+
+    Returns
+    -------
+    ndarray
+        ``(n1 + 1, n2 + 1)`` corner values.
+    """
+    f = np.asarray(field, dtype=float)
+    f = np.pad(f, ((1, 1), (0, 0)), mode="wrap" if periodic[0] else "edge")
+    f = np.pad(f, ((0, 0), (1, 1)), mode="wrap" if periodic[1] else "edge")
+    return 0.25 * (f[:-1, :-1] + f[1:, :-1] + f[:-1, 1:] + f[1:, 1:])
+
+
+def corner_coordinates(grid):
+    """Corner coordinates ``(c1, c2)`` [m] of the surface cells: ``n1 + 1`` and ``n2 + 1`` values."""
+    return (np.linspace(-grid.size[0] / 2, grid.size[0] / 2, grid.shape[0] + 1),
+            np.linspace(-grid.size[1] / 2, grid.size[1] / 2, grid.shape[1] + 1))
+
+
+def layer_boundaries(grid):
+    """Depths [m] of the layer boundaries, ``0 .. depth`` (``layers + 1`` values)."""
+    return np.linspace(0.0, grid.depth, grid.layers + 1)
+
+
+def stress_measures(stress):
+    """Derived stress measures of Voigt stresses ``(..., 6)`` [Pa].
+
+    Parameters
+    ----------
+    stress : ndarray
+        Voigt ``xx yy zz yz xz xy`` [Pa].
+
+    Returns
+    -------
+    dict
+        ``von_mises`` (...), ``tresca`` (...) the largest principal
+        difference, ``principal_stress`` (..., 3) sorted descending (from
+        :func:`numpy.linalg.eigvalsh` on the 3x3 tensors) [Pa].
+    """
+    s = np.asarray(stress, dtype=float)
+    tensor = np.empty(s.shape[:-1] + (3, 3))
+    for (a, b), c in zip(((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1)), range(6)):
+        tensor[..., a, b] = tensor[..., b, a] = s[..., c]
+    principal = np.linalg.eigvalsh(tensor)[..., ::-1]
+    return {"von_mises": _von_mises(s), "tresca": principal[..., 0] - principal[..., 2],
+            "principal_stress": np.ascontiguousarray(principal)}
+
+
+def encode_text(text):
+    """UTF-8 bytes of ``text`` as a uint8 array (a field-data array every VTU reader, meshio included, can read)."""
+    return np.frombuffer(text.encode("utf-8"), dtype=np.uint8).copy()
+
+
+def decode_text(array):
+    """Text stored by :func:`encode_text` (accepts a uint8 array or a VTK string array as read by pyvista)."""
+    array = np.asarray(array)
+    if array.dtype.kind in "US" or array.dtype == object:
+        return str(array.ravel()[0]) if array.size == 1 else "".join(str(a) for a in array.ravel())
+    return bytes(array.astype(np.uint8).ravel()).decode("utf-8")
+
+
+def configuration_json(result):
+    """``result.configuration()`` as a JSON string (non-finite numbers written as NaN/Infinity)."""
+    return json.dumps(result.configuration(), default=_plain)
+
+
+def _plain(obj):
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return repr(obj)
+
+
+def attach_metadata(mesh, result, step, configuration=None):
+    """Add the field data every exported file carries.
+
+    ``framework_version`` and ``configuration`` (JSON of
+    ``result.configuration()``) as UTF-8 uint8 arrays (decode with
+    :func:`decode_text`), ``time`` [s] and ``TimeValue`` [s] (the name
+    ParaView looks for), ``step`` (index into the result).
+    """
+    k = step_index(result, step)
+    mesh.field_data["framework_version"] = encode_text(str(result.version))
+    mesh.field_data["configuration"] = encode_text(configuration or configuration_json(result))
+    mesh.field_data["time"] = np.array([result.times[k]], dtype=float)
+    mesh.field_data["TimeValue"] = np.array([result.times[k]], dtype=float)
+    mesh.field_data["step"] = np.array([k], dtype=np.int64)
+    return mesh
+
+
+def _unstructured(points, connectivity, cell_type):
+    pv = _deps.pyvista()
+    n, per = connectivity.shape
+    cells = np.hstack([np.full((n, 1), per, dtype=np.int64), connectivity.astype(np.int64)]).ravel()
+    return pv.UnstructuredGrid(cells, np.full(n, cell_type, dtype=np.uint8), np.asarray(points, dtype=float))
+
+
+def quad_mesh(grid, z_corners):
+    """Quad mesh of the surface cells with the corners at heights ``z_corners`` ``(n1 + 1, n2 + 1)`` [m].
+
+    Quads are counter-clockwise seen from above (normals point up, +z).
+    """
+    n1, n2 = grid.shape
+    c1, c2 = corner_coordinates(grid)
+    x, y = np.meshgrid(c1, c2, indexing="ij")
+    points = np.column_stack([x.ravel(order="F"), y.ravel(order="F"), np.asarray(z_corners).ravel(order="F")])
+    i, j = (a.ravel(order="F") for a in np.meshgrid(np.arange(n1), np.arange(n2), indexing="ij"))
+
+    def p(a, b):
+        return a + (n1 + 1) * b
+
+    connectivity = np.column_stack([p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)])
+    return _unstructured(points, connectivity, VTK_QUAD)
+
+
+def hexahedron_mesh(grid):
+    """Hexahedra (VTK_HEXAHEDRON) of the surface cells times the layers, ``z`` from 0 down to ``-depth``."""
+    if not grid.layers:
+        raise ParameterError("the volume mesh needs subsurface layers: the grid has layers=0; "
+                             "give Grid(..., depth=..., layers=...)")
+    n1, n2, n3 = grid.shape + (grid.layers,)
+    c1, c2 = corner_coordinates(grid)
+    z = -layer_boundaries(grid)
+    x, y, zz = np.meshgrid(c1, c2, z, indexing="ij")
+    points = np.column_stack([a.ravel(order="F") for a in (x, y, zz)])
+    i, j, k = (a.ravel(order="F") for a in np.meshgrid(np.arange(n1), np.arange(n2), np.arange(n3), indexing="ij"))
+
+    def q(a, b, m):
+        return a + (n1 + 1) * (b + (n2 + 1) * m)
+
+    # VTK: the base (0-3) is counter-clockwise about the normal pointing to the opposite face (4-7):
+    # base = the lower boundary of layer k (m = k + 1), top = its upper boundary (m = k).
+    connectivity = np.column_stack([q(i, j, k + 1), q(i + 1, j, k + 1), q(i + 1, j + 1, k + 1), q(i, j + 1, k + 1),
+                                    q(i, j, k), q(i + 1, j, k), q(i + 1, j + 1, k), q(i, j + 1, k)])
+    return _unstructured(points, connectivity, VTK_HEXAHEDRON)
+
+
+def surface_mesh(result, step):
+    """The deformed surface of one step.
+
+    Points: the ``(n1 + 1) x (n2 + 1)`` cell corners at the deformed position
+    ``z = -u3`` (true scale), ``u3`` averaged over the adjacent cells
+    (:func:`corner_average`, wrapping on periodic axes).
+
+    Point data: ``warp`` [m], the vector ``(0, 0, -u3)`` from the undeformed
+    position (``z = 0``) to the point; the undeformed surface is
+    ``points - warp`` (ParaView: Warp By Vector ``warp`` with scale factor -1;
+    scale factor ``s - 1`` exaggerates the deformation ``s`` times).
+
+    Cell data: ``pressure`` [Pa], ``displacement`` (u3 [m], positive into the
+    solid), ``gap`` [m], ``contact`` (int32, 1 where the pressure is > 0).
+
+    Parameters
+    ----------
+    result : framework.Result
+        The run.
+    step : int
+        Step index (negative counts from the end).
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        Quads (VTK_QUAD), no field data (see :func:`attach_metadata`).
+    """
+    k = step_index(result, step)
+    grid = result.grid
+    u3 = np.asarray(result.displacement(k), dtype=float)
+    u3_corner = corner_average(u3, grid.periodic)
+    mesh = quad_mesh(grid, -u3_corner)
+    warp = np.zeros((u3_corner.size, 3))
+    warp[:, 2] = -u3_corner.ravel(order="F")
+    mesh.point_data["warp"] = warp
+    pressure = np.asarray(result.pressure(k), dtype=float)
+    mesh.cell_data["pressure"] = cell_order(pressure)
+    mesh.cell_data["displacement"] = cell_order(u3)
+    mesh.cell_data["gap"] = cell_order(np.asarray(result.gap(k), dtype=float))
+    mesh.cell_data["contact"] = cell_order((pressure > 0).astype(np.int32))
+    mesh.set_active_scalars("pressure", preference="cell")
+    return mesh
+
+
+def volume_mesh(result, step, stress=None):
+    """Subsurface stresses of one step on hexahedra spanning the cells and layers (undeformed).
+
+    Cell data (each cell holds the value at its centre, ``z = -x3``), in the
+    exported frame (see the module docstring for the shear signs):
+
+    * ``stress_xx`` ... ``stress_xy`` [Pa], and ``stress`` the same six as one
+      6-component array in Voigt order ``xx yy zz yz xz xy``;
+    * ``von_mises`` [Pa]; ``tresca`` [Pa], the largest principal difference;
+    * ``principal_stress`` [Pa], 3 components sorted descending.
+
+    Reserved names, written when the result provides them (methods
+    ``eigenstrain(step)`` -> ``(n1, n2, layers, 6)`` Voigt strains, and
+    ``inhomogeneity(step)`` -> ``(n1, n2, layers)`` integer indicator, 0 in
+    the matrix): ``eigenstrain`` (6 components, same frame and order as
+    ``stress``) and ``inhomogeneity`` (int32).
+
+    Parameters
+    ----------
+    result : framework.Result
+        The run (its grid must have layers).
+    step : int
+        Step index.
+    stress : ndarray, optional
+        ``result.stress(step)`` when already computed.
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        Hexahedra (VTK_HEXAHEDRON).
+    """
+    k = step_index(result, step)
+    mesh = hexahedron_mesh(result.grid)
+    stress = np.asarray(result.stress(k) if stress is None else stress, dtype=float) * FRAME_SIGN
+    flat = _cell_order(stress, 3)
+    for c, name in enumerate(STRESS_COMPONENTS):
+        mesh.cell_data[name] = np.ascontiguousarray(flat[:, c])
+    mesh.cell_data["stress"] = np.ascontiguousarray(flat)
+    for name, value in stress_measures(flat).items():
+        mesh.cell_data[name] = value
+    if callable(getattr(result, "eigenstrain", None)):
+        mesh.cell_data["eigenstrain"] = _cell_order(np.asarray(result.eigenstrain(k), dtype=float) * FRAME_SIGN, 3)
+    if callable(getattr(result, "inhomogeneity", None)):
+        mesh.cell_data["inhomogeneity"] = _cell_order(np.asarray(result.inhomogeneity(k)).astype(np.int32), 3)
+    mesh.set_active_scalars("von_mises", preference="cell")
+    return mesh
+
+
+def indenter_mesh(result, step):
+    """The indenter's surface over the grid at its position in one step.
+
+    Points: the cell corners at ``z = h - approach`` (``h`` from
+    ``indenter.on_grid`` averaged to the corners like the surface), so that
+    the indenter and the deformed surface coincide where every adjacent cell
+    is in contact. Heights are written as given: the vertical walls of flat
+    punches (:data:`framework.indenters.WALL` times the grid side) show up as
+    steep one-cell ramps. A nonzero tilt is not drawn yet (warns).
+
+    Cell data: ``height`` [m] (``h`` at the cell centres).
+
+    Parameters
+    ----------
+    result : framework.Result
+        The run.
+    step : int
+        Step index.
+
+    Returns
+    -------
+    pyvista.UnstructuredGrid
+        Quads (VTK_QUAD).
+    """
+    k = step_index(result, step)
+    grid = result.grid
+    heights = np.asarray(result.indenter.on_grid(grid), dtype=float)
+    tilt = np.asarray(result.tilt[k], dtype=float)
+    if np.any(tilt != 0):
+        warnings.warn(f"the indenter's tilt {tuple(tilt)} rad at step {k} is not drawn: the exported indenter "
+                      f"surface is only translated by the approach", stacklevel=2)
+    mesh = quad_mesh(grid, corner_average(heights, grid.periodic) - float(result.approach[k]))
+    mesh.cell_data["height"] = cell_order(heights)
+    return mesh

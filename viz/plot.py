@@ -1,0 +1,137 @@
+"""History plots: per-step series of a result against time, load or approach (matplotlib, Agg).
+
+The figure is made with :class:`matplotlib.figure.Figure` directly (no pyplot,
+no GUI backend, no global state), one panel per quantity, SI units in the labels.
+"""
+import os
+
+import numpy as np
+
+from framework.errors import ParameterError
+
+from . import _deps
+
+#: Series that can be plotted: name -> (label, SI unit, component names or None).
+QUANTITIES = {
+    "load": ("load", "N", None),
+    "approach": ("approach", "m", None),
+    "contact_area": ("contact area", "m$^2$", None),
+    "contact_radius": ("contact radius", "m", None),
+    "max_pressure": ("max pressure", "Pa", None),
+    "center": ("load centre", "m", ("x1", "x2")),
+    "tilt": ("tilt", "rad", ("x1", "x2")),
+    "friction_coefficient": ("friction coefficient", "-", None),
+    "torque": ("torque", "N m", None),
+    "iterations": ("solver iterations", "-", None),
+    "residual": ("solver residual", "-", None),
+}
+
+#: Abscissae: name -> (label, SI unit).
+AGAINST = {"time": ("time", "s"), "load": ("load", "N"), "approach": ("approach", "m")}
+
+DEFAULT = ("load", "approach", "contact_radius", "max_pressure")
+
+
+def _series(result, name):
+    if name == "time":
+        return np.asarray(result.times, dtype=float)
+    return np.asarray(getattr(result, name), dtype=float)
+
+
+def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None, title=None, dpi=120):
+    """Plot per-step series of a result, one panel per quantity, into a PNG file.
+
+    Parameters
+    ----------
+    result : framework.Result
+        The run.
+    png : str or path
+        Output file (its folder must exist); the format follows the extension.
+    quantities : str or sequence of str
+        Any of ``load`` [N], ``approach`` [m], ``contact_area`` [m^2],
+        ``contact_radius`` [m], ``max_pressure`` [Pa], ``center`` [m] (x1 and
+        x2), ``tilt`` [rad] (two components), ``friction_coefficient`` [-],
+        ``torque`` [N m], ``iterations``, ``residual``. Default: load,
+        approach, contact radius and peak pressure.
+    against : {"time", "load", "approach"}
+        Abscissa: time [s] (default), load [N] or approach [m].
+    xscale : {"linear", "log", "symlog"}, optional
+        Abscissa scale. Default: for time, ``symlog`` (linear below the first
+        positive time, so t = 0 stays visible) when the positive times span
+        more than two decades, else linear; linear otherwise.
+    title : str, optional
+        Figure title; default: indenter, material and number of steps.
+    dpi : int
+        Resolution [dots per inch].
+
+    Returns
+    -------
+    str
+        The path written.
+
+    Raises
+    ------
+    framework.errors.ParameterError
+        Unknown quantity, abscissa or scale, or a result without steps.
+    ImportError
+        matplotlib is missing (``pip install 'viscocontact[viz]'``).
+    """
+    if isinstance(quantities, str):
+        quantities = [quantities]
+    quantities = list(quantities)
+    if not quantities:
+        raise ParameterError(f"quantities must name at least one of {list(QUANTITIES)}, got an empty list")
+    for name in quantities:
+        if name not in QUANTITIES:
+            raise ParameterError(f"unknown quantity {name!r}; choose from {list(QUANTITIES)}")
+    if against not in AGAINST:
+        raise ParameterError(f"against must be one of {list(AGAINST)}, got {against!r}")
+    if xscale not in (None, "linear", "log", "symlog"):
+        raise ParameterError(f"xscale must be 'linear', 'log', 'symlog' or None, got {xscale!r}")
+    if len(result) == 0:
+        raise ParameterError("the result has no steps to plot")
+    figure_module = _deps.require("matplotlib.figure")
+    x = _series(result, against)
+    positive = x[x > 0]
+    if xscale is None:
+        xscale = "linear"
+        if against == "time" and positive.size and positive.max() / positive.min() > 100:
+            xscale = "symlog"
+    figure = figure_module.Figure(figsize=(8.0, 1.2 + 2.3 * len(quantities)), dpi=dpi, layout="constrained")
+    axes = figure.subplots(len(quantities), 1, sharex=True, squeeze=False)[:, 0]
+    xlabel, xunit = AGAINST[against]
+    for ax, name in zip(axes, quantities):
+        label, unit, components = QUANTITIES[name]
+        y = _series(result, name)
+        if components:
+            for c, component in enumerate(components):
+                ax.plot(x, y[:, c], "o-", markersize=3, label=component)
+            ax.legend(loc="best", fontsize="small")
+        else:
+            ax.plot(x, y, "o-", markersize=3)
+        ax.set_ylabel(f"{label} [{unit}]")
+        ax.grid(True, alpha=0.3)
+        if name != "residual" and name != "iterations":
+            ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4), useMathText=True)
+        elif name == "residual" and np.all(y > 0):
+            ax.set_yscale("log")
+    bottom = axes[-1]
+    if xscale == "symlog":
+        bottom.set_xscale("symlog", linthresh=float(positive.min()))
+    elif xscale == "log":
+        if not positive.size:
+            raise ParameterError(f"xscale='log' needs positive {against} values")
+        bottom.set_xscale("log")
+    else:
+        bottom.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4), useMathText=True)
+    bottom.set_xlabel(f"{xlabel} [{xunit}]" + (" (symlog scale)" if xscale == "symlog" else ""))
+    figure.suptitle(title if title is not None else _default_title(result))
+    path = os.fspath(png)
+    figure.savefig(path)
+    return path
+
+
+def _default_title(result):
+    indenter, material = type(result.indenter).__name__, type(result.material).__name__
+    n1, n2 = result.grid.shape
+    return f"{indenter} on {material}, {n1} x {n2} cells, {len(result)} steps"
