@@ -11,7 +11,8 @@ from .io import load_result
 from .result import Result, StepRecord
 from .simulation import Options, Simulation
 from .solver import ContactSolution, SolverOptions, solve_normal
+from .sweep import ScenarioBuilder, read_sweep, sweep
 
-__all__ = ["load_result", "Grid", "Options", "Result", "Simulation", "SolverOptions", "ContactSolution", "StepRecord",
+__all__ = ["load_result", "sweep", "ScenarioBuilder", "read_sweep", "Grid", "Options", "Result", "Simulation", "SolverOptions", "ContactSolution", "StepRecord",
            "solve_normal", "errors", "fft", "indenters", "loads", "materials", "reference", "schedules",
            "__version__"]

@@ -3,6 +3,8 @@
     python -m framework run SCENARIO.toml --out DIR     run a scenario file
     python -m framework demo [--out DIR]                 run the built-in default scenario
     python -m framework check SCENARIO.toml              check a scenario file without running it
+    python -m framework sweep SWEEP.toml [--scheduler ADDRESS] [--folder DIR]
+                                                         run a parametric sweep on Dask
 
 The numerical core never imports ``viz``; this entry point does, when a
 scenario asks for VTU files or pictures.
@@ -109,6 +111,10 @@ def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
 
 def main(argv=None):
     from . import scenario as scenarios
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["sweep"]:
+        from .sweep import main as sweep_main
+        return sweep_main(argv[1:])
     parser = argparse.ArgumentParser(prog="python -m framework", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True)
@@ -125,6 +131,7 @@ def main(argv=None):
     run.add_argument("--every", type=int, default=10, help="steps between checkpoints (default: 10)")
     check = commands.add_parser("check", help="check a scenario file without running it")
     check.add_argument("scenario")
+    commands.add_parser("sweep", help="run a parametric sweep on Dask (python -m framework sweep -h)")
     args = parser.parse_args(argv)
     try:
         path = scenarios.demo_path() if args.command == "demo" else args.scenario

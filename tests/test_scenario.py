@@ -9,7 +9,8 @@ import pytest
 from framework import scenario
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.toml"))) + [scenario.demo_path()]
+EXAMPLES = sorted(p for p in glob.glob(os.path.join(ROOT, "examples", "*.toml"))
+                  if not os.path.basename(p).startswith("sweep_")) + [scenario.demo_path()]
 
 
 def cli(*args):
