@@ -245,3 +245,20 @@ def test_missing_extra_is_named(result, tmp_path, monkeypatch):
         render(result, tmp_path / "x.png")
     with pytest.raises(ImportError, match=r"viscocontact\[viz\]"):
         export(result, tmp_path, steps=0)
+
+
+def test_indenter_mesh_carries_the_tilt():
+    """Eccentric flat punch: the exported indenter face is the plane h - (delta + alpha . x)."""
+    import framework as fw
+    from viz import meshes
+    grid = fw.Grid(shape=(31, 31), size=(3e-3, 3e-3))
+    result = fw.Simulation(grid=grid, material=fw.materials.Elastic(young=1e9, poisson=0.3),
+                           indenter=fw.indenters.FlatPunch(radius=1e-3),
+                           schedule=fw.schedules.Eccentric(load=5.0, offset=(2e-4, -1e-4))).run()
+    mesh = meshes.indenter_mesh(result, 0)
+    points = np.asarray(mesh.points)
+    face = np.hypot(points[:, 0], points[:, 1]) < 0.8e-3
+    slopes = np.tan(result.tilt[0])
+    expected = -(result.approach[0] + slopes[0] * points[face, 0] + slopes[1] * points[face, 1])
+    assert np.allclose(points[face, 2], expected, rtol=0, atol=1e-12)
+    assert slopes[0] > 0 and slopes[1] < 0

@@ -19,7 +19,6 @@ Stress components are given in the exported frame ``(x, y, z) = (x1, x2, -x3)``:
 Invariants, principal stresses, von Mises and Tresca do not depend on this.
 """
 import json
-import warnings
 
 import numpy as np
 
@@ -354,7 +353,8 @@ def indenter_mesh(result, step):
     the indenter and the deformed surface coincide where every adjacent cell
     is in contact. Heights are written as given: the vertical walls of flat
     punches (:data:`framework.indenters.WALL` times the grid side) show up as
-    steep one-cell ramps. A nonzero tilt is not drawn yet (warns).
+    steep one-cell ramps. The tilt of an eccentrically loaded indenter is
+    drawn: ``z = h - (approach + alpha1 x1 + alpha2 x2)`` with ``alpha = tan(tilt)``.
 
     Cell data: ``height`` [m] (``h`` at the cell centres).
 
@@ -373,10 +373,9 @@ def indenter_mesh(result, step):
     k = step_index(result, step)
     grid = result.grid
     heights = np.asarray(result.indenter.on_grid(grid), dtype=float)
-    tilt = np.asarray(result.tilt[k], dtype=float)
-    if np.any(tilt != 0):
-        warnings.warn(f"the indenter's tilt {tuple(tilt)} rad at step {k} is not drawn: the exported indenter "
-                      f"surface is only translated by the approach", stacklevel=2)
-    mesh = quad_mesh(grid, corner_average(heights, grid.periodic) - float(result.approach[k]))
+    slope1, slope2 = np.tan(np.asarray(result.tilt[k], dtype=float))
+    corners1, corners2 = corner_coordinates(grid)
+    rigid = float(result.approach[k]) + slope1 * corners1[:, None] + slope2 * corners2[None, :]
+    mesh = quad_mesh(grid, corner_average(heights, grid.periodic) - rigid)
     mesh.cell_data["height"] = cell_order(heights)
     return mesh
