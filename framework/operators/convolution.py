@@ -39,9 +39,10 @@ class Convolution:
 
     Parameters
     ----------
-    spectrum : ndarray
+    spectrum : ndarray or None
         Kernel spectrum on the padded grid, shape ``(..., m1, m2 // 2 + 1)`` as
-        returned by :func:`framework.fft.rfft2` of the wrapped kernel.
+        returned by :func:`framework.fft.rfft2` of the wrapped kernel; None when
+        the kernels are passed to :meth:`apply_spectrum` call by call.
     shape : tuple of int
         Surface shape ``(n1, n2)`` of the fields.
     periodic : tuple of bool
@@ -52,6 +53,10 @@ class Convolution:
         self.shape = tuple(shape)
         self.periodic = tuple(periodic)
         self.fft_shape = padded_shape(self.shape, self.periodic)
+        self._pair = None
+        if spectrum is None:
+            self.spectrum = None
+            return
         expected = (self.fft_shape[0], self.fft_shape[1] // 2 + 1)
         if spectrum.shape[-2:] != expected:
             raise ShapeError(f"kernel spectrum has shape {spectrum.shape}, expected (..., {expected[0]}, {expected[1]})")
@@ -59,7 +64,6 @@ class Convolution:
         if np.iscomplexobj(spectrum) and np.allclose(spectrum.imag, 0.0, atol=1e-14 * np.abs(spectrum).max()):
             spectrum = np.ascontiguousarray(spectrum.real)
         self.spectrum = spectrum
-        self._pair = None
 
     def _pad(self, field):
         if field.shape[-2:] != self.shape:
@@ -74,16 +78,13 @@ class Convolution:
         """Spectrum of the zero-padded field (reusable for several kernels)."""
         return fft.rfft2(self._pad(np.asarray(field, dtype=float)))
 
-    def apply_spectrum(self, field_spectrum, kernel=None):
-        """Convolve a field given by its spectrum; ``kernel`` selects leading kernel indices."""
-        spectrum = self.spectrum if kernel is None else self.spectrum[kernel]
+    def apply_spectrum(self, field_spectrum, spectrum):
+        """Convolve a field given by its spectrum with kernel(s) given by theirs, ``(..., m1, m2 // 2 + 1)``."""
         full = fft.irfft2(spectrum * field_spectrum, self.fft_shape)
         return full[..., : self.shape[0], : self.shape[1]]
 
     def apply(self, field):
-        """Convolution of ``field`` (shape ``(n1, n2)``) with a single kernel, through reused buffers."""
-        if self.spectrum.ndim != 2:
-            return self.apply_spectrum(self.transform(field))
+        """Convolution of ``field`` (shape ``(n1, n2)``) with the kernel, through reused buffers."""
         if np.shape(field) != self.shape:
             raise ShapeError(f"field has shape {np.shape(field)}, the operator's grid is {self.shape}")
         pair = self._pair

@@ -48,8 +48,7 @@ class SubsurfaceStress:
         self.poisson = float(poisson)
         self.cache_bytes = cache_bytes
         self._cache = {}
-        self._convolution = None if all(grid.periodic) else Convolution(
-            np.zeros((2 * grid.shape[0], grid.shape[1] + 1)), grid.shape, grid.periodic)
+        self._convolution = None if all(grid.periodic) else Convolution(None, grid.shape, grid.periodic)
 
     def _love_spectrum(self, depth):
         spectrum = self._cache.get(depth)
@@ -106,9 +105,7 @@ class SubsurfaceStress:
                 out[:, :, j, :] = np.moveaxis(fft.irfft2(self._periodic_modes(depth) * p_hat, (n1, n2)), 0, -1)
             return out
         p_hat = self._convolution.transform(pressure)
-        m_shape = self._convolution.fft_shape
         for j, depth in enumerate(depths):
-            spectrum = self._love_spectrum(float(depth)) * _PHASE
-            full = fft.irfft2(spectrum * p_hat, m_shape)
-            out[:, :, j, :] = np.moveaxis(full[:, :n1, :n2], 0, -1)
+            stresses = self._convolution.apply_spectrum(p_hat, self._love_spectrum(float(depth)) * _PHASE)
+            out[:, :, j, :] = np.moveaxis(stresses, 0, -1)
         return out

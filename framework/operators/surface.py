@@ -3,7 +3,7 @@ import numpy as np
 from scipy.special import iti0k0
 
 from .. import fft
-from .convolution import Convolution, padded_shape, wrapped_offsets
+from .convolution import Convolution, wrapped_offsets
 from .kernels import surface_displacement
 
 
@@ -151,9 +151,4 @@ class SurfaceCompliance:
             kernel[:, m2] = 0.0
             convolution = self._windows[shape] = Convolution(fft.rfft2(kernel), shape, (False, False))
         return convolution.apply(field)
-
-    @property
-    def fft_shape(self):
-        """Shape of the (padded) FFT grid."""
-        return padded_shape(self.grid.shape, self.grid.periodic)
 
