@@ -36,12 +36,12 @@ class History:
     @property
     def jumps(self):
         """Times of discontinuities [s]."""
-        return tuple(t for t in self.segment_jumps)
+        return tuple(self.segment_jumps)
 
     @property
     def kinks(self):
         """Times where the slope changes [s]."""
-        return tuple(t for t in self.segment_kinks)
+        return tuple(self.segment_kinks)
 
     def __call__(self, t):
         """Value at times ``t`` [s] (right-continuous, 0 before the history starts)."""

@@ -99,12 +99,6 @@ def _times(value, name):
     return value
 
 
-def _history(value, name):
-    if isinstance(value, dict):
-        return build(value, name=name)
-    return value
-
-
 def _material(table):
     if "preset" in table:
         unknown = set(table) - {"preset", "poisson"}
@@ -184,7 +178,7 @@ def parse(data, source="<scenario>"):
             schedule["times"] = _times(schedule["times"], "schedule.times")
         for key in ("load", "approach"):
             if key in schedule:
-                schedule[key] = _history(schedule[key], f"schedule.{key}")
+                schedule[key] = build(schedule[key], name=f"schedule.{key}")  # numbers and lists pass through
         schedule = build(schedule, name="schedule")
         options = data.get("options")
         output = _output(data.get("output", {}))

@@ -348,7 +348,6 @@ class Simulation:
 
 
 def _check_edges(pressure, grid, time, value, control):
-    n1, n2 = grid.shape
     edges = []
     if not grid.periodic[0] and (pressure[0].any() or pressure[-1].any()):
         edges.append("x1 = +/-%g m" % (grid.size[0] / 2))
