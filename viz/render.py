@@ -329,7 +329,7 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap="vir
                                    f"approach {_length(result.approach[k])}"]
     text_size = int(font_size)
     plotter.add_text("\n".join(lines), position=(int(0.015 * plotter.window_size[0]),
-                                                 int(plotter.window_size[1] - 1.6 * text_size * len(lines) - 12)),
+                                                 int(plotter.window_size[1] - 2.2 * text_size * len(lines) - 20)),
                      font_size=text_size, color="black")
     path = os.fspath(png)
     try:
