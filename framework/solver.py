@@ -110,15 +110,15 @@ class RigidModes:
         for _ in range(20):
             contact = pressure > 0
             selected = self.basis[:, contact]
-            gram = selected @ selected.T * cell_area
             missing = targets - selected @ pressure[contact] * cell_area
             if np.abs(missing).max() <= 1e-13 * targets[0]:
                 return True
-            if contact.sum() < 3 or np.linalg.cond(gram) > 1e12:
-                return False
-            pressure[contact] += np.linalg.solve(gram, missing) @ selected
+            # least squares: cells on a line (two cells carrying a load between them) are a
+            # rank-deficient but valid support when the load centre lies on that line
+            gram = selected @ selected.T * cell_area
+            pressure[contact] += np.linalg.lstsq(gram, missing, rcond=1e-12)[0] @ selected
             np.maximum(pressure, 0.0, out=pressure)
-        return True
+        return False
 
 
 def _residual(gap, contact, displacement):
@@ -189,10 +189,29 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     else:  # the interpenetration, scaled so that its displacement matches it at the peak
         pressure = np.maximum(approach - base_gap, 0.0)
         pressure *= (approach - touch) / apply(pressure).max()
+    if load_control and not modes.restore(pressure, targets, cell_area) and modes.tilt:
+        # A body that tilts carries the load about its point of application (a sphere rolls its
+        # contact there), which the cells nearest the lowest point may not surround: start from the
+        # smallest disc of cells around the offset that carries the load and both moments.
+        distance = np.hypot(coordinates[0] - offset[0], coordinates[1] - offset[1])
+        for radius in 1.5 * np.sqrt(cell_area) * 2.0 ** np.arange(16):
+            pressure = np.where(distance <= radius, 1.0, 0.0)
+            if modes.restore(pressure, targets, cell_area) or radius > distance.max():
+                break
     if load_control and not modes.restore(pressure, targets, cell_area):
         raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
 
     coefficients = (0.0, 0.0, 0.0)
+    diagonal = []
+
+    def self_compliance():
+        """Displacement of a cell under its own unit pressure (the operator is a convolution: any cell)."""
+        if not diagonal:
+            unit = np.zeros_like(base_gap)
+            unit.flat[0] = 1.0
+            diagonal.append(float(apply(unit).flat[0]))
+        return diagonal[0]
+
     direction = np.zeros_like(pressure)
     norm_old, conjugate = 1.0, False
     change, residual, stalled = np.inf, np.inf, 0
@@ -215,32 +234,44 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         np.copyto(direction, 0.0, where=~contact)
         gap_c = np.where(contact, gap, 0.0)
         norm = _dot(gap_c, gap_c)
-        direction *= norm / norm_old if conjugate else 0.0
-        direction += gap_c
-        norm_old = norm
-        if window is None:
-            box, response = (slice(None), slice(None)), apply(direction)
+        step, curvature = 0.0, 0.0
+        # A gap flat to rounding over the contact set has no direction to follow (a set with no free
+        # direction: one cell, the symmetric apex cells of an even grid, three cells under a tilt):
+        # the rounding noise would give an arbitrary step. Only the re-entry below can move it.
+        if norm > (1e-12 * np.abs(displacement).max()) ** 2 * np.count_nonzero(contact):
+            direction *= norm / norm_old if conjugate else 0.0
+            direction += gap_c
+            norm_old = norm
+            if window is None:
+                box, response = (slice(None), slice(None)), apply(direction)
+            else:
+                box = window(contact)
+                response = apply_window(direction[box], box)
+            if load_control:
+                response -= modes.fit(response, contact[box], box)[0]
+            curvature = _dot(response, direction[box])
+            # a direction that rounding has swamped takes no step
+            step = _dot(gap_c, direction) / curvature if curvature > 0 else 0.0
         else:
-            box = window(contact)
-            response = apply_window(direction[box], box)
-        if load_control:
-            response -= modes.fit(response, contact[box], box)[0]
-        curvature = _dot(response, direction[box])
-        # A direction that rounding has swamped (or a gap already flat over the contact set) takes no
-        # step; the re-entry below may still change the contact set.
-        step = _dot(gap_c, direction) / curvature if curvature > 0 else 0.0
-        previous = pressure
-        pressure = previous - step * direction
-        np.maximum(pressure, 0.0, out=pressure)
-        # Re-entry (Polonsky & Keer): free cells that interpenetrate join the contact set.
-        overlap = (pressure == 0) & (gap < 0)
+            direction[:] = 0.0
+        # Re-entry (Polonsky & Keer): free cells that interpenetrate join the contact set, with the
+        # pressure that closes their overlap: the conjugate step times the overlap, at most what
+        # would close it in a cell alone (its own compliance), which is the step when there is none.
+        overlap = ~contact & (gap < 0)
         conjugate = not overlap.any()
-        if not conjugate:
-            pressure[overlap] -= step * gap[overlap]
-        if load_control and not modes.restore(pressure, targets, cell_area):
-            pressure = np.where(gap < 0, -gap, 0.0) + previous * 0.5
-            if not modes.restore(pressure, targets, cell_area):
-                raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
+        entry = 0.0 if conjugate else min(step, 1.0 / self_compliance()) if step > 0 else 1.0 / self_compliance()
+        previous = pressure
+        # Under load control the step must leave a pressure that can carry the load (and, with a
+        # tilt, both moments: not every clipped step can): halve it until it does.
+        for halving in range(40):
+            pressure = np.maximum(previous - 0.5**halving * step * direction, 0.0)
+            pressure[overlap] = -0.5**halving * entry * gap[overlap]
+            if not load_control or modes.restore(pressure, targets, cell_area):
+                break
+        else:
+            pressure = previous
+        if halving:  # the step was cut: the conjugate directions are lost, restart them
+            conjugate = False
         change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
         if step == 0.0 and conjugate:
             stalled += 1
