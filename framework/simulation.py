@@ -10,6 +10,9 @@ linearly in time within a step,
     w_k = (lambda_k/dt)(1 - e_k)  (1 when dt = 0),
     q_k <- e_k q_k + w_k (p_n - p_{n-1}),
 
+(a material without instantaneous compliance, ``c0 = 0``, takes the pressure
+changed at the start of each step and held instead: ``w_k = e_k`` and
+``C_eff = C*(dt)``, first order; see :attr:`ComplianceSeries.linear_steps`),
 which costs one extra convolution per step and one surface field per term
 (plus one, the time integral of the pressure, for a fluid's ``flow`` term). An
 elastic material has no terms, and the steps are independent solves
@@ -114,11 +117,11 @@ class PronyRecursion:
         """Effective compliance of the step to ``time`` and the pressure-like field of the history."""
         state, c = self.state, self.coefficients
         dt = time - state.time
-        compliance = float(self.series.mean(0.0, dt))
+        compliance = float(self.series.step_response(0.0, dt))
         if not len(c) and not self.series.flow:
             return compliance, None
         self._decay = np.exp(-dt / self.retardation)
-        self._weight = np.where(dt > 0, self.retardation / max(dt, 1e-300) * -np.expm1(-dt / self.retardation), 1.0)
+        self._weight = self.series.step_weights(dt)
         self._dt = dt
         field = np.sum(c * self._weight) * state.pressure - np.tensordot(c * self._decay, state.fields, axes=1)
         if self.series.flow:
@@ -147,7 +150,8 @@ class HereditarySum:
     """History by the full hereditary sum over every previous step: O(n) per step.
 
     ``u_n = K * sum_j (p_j - p_{j-1}) mean_{[t_{j-1}, t_j]} C*(t_n - s)`` for a
-    pressure linear in each step; the reference the recursion must reproduce.
+    pressure linear in each step (``C*(t_n - t_{j-1})`` for one held, see
+    :meth:`ComplianceSeries.step_response`); the reference the recursion must reproduce.
     """
 
     def __init__(self, series, shape):
@@ -158,11 +162,11 @@ class HereditarySum:
     pressure = property(lambda self: self.pressures[-1])
 
     def prepare(self, time):
-        compliance = float(self.series.mean(0.0, time - self.times[-1]))
+        compliance = float(self.series.step_response(0.0, time - self.times[-1]))
         field = -compliance * self.pressures[-1]
         for j in range(1, len(self.times)):
-            mean = float(self.series.mean(time - self.times[j], time - self.times[j - 1]))
-            field = field + mean * (self.pressures[j] - self.pressures[j - 1])
+            felt = float(self.series.step_response(time - self.times[j], time - self.times[j - 1]))
+            field = field + felt * (self.pressures[j] - self.pressures[j - 1])
         return compliance, field
 
     def commit(self, time, pressure):

@@ -48,14 +48,15 @@ def test_recursion_equals_hereditary_sum_for_any_pressure_history():
     """Given the same pressures, the O(1) recursion and the O(n) sum give the same history fields."""
     rng = np.random.default_rng(1)
     series = materials.Maxwell(young=2e9, relaxation_time=3.0, poisson=0.3).contact_compliance()
-    for series in (MATERIAL.contact_compliance(), series):
+    held = materials.KelvinVoigt(young=2e9, viscosity=4e9, poisson=0.3).contact_compliance()  # held pressure
+    for series in (MATERIAL.contact_compliance(), series, held):
         recursion, direct = PronyRecursion(series, (6, 5)), HereditarySum(series, (6, 5))
         for time in [0.0, 0.0, 0.3, 0.31, 2.0, 2.0, 7.5, 40.0, 41.0]:
             c1, f1 = recursion.prepare(time)
             c2, f2 = direct.prepare(time)
             assert c1 == pytest.approx(c2, rel=1e-14)
             if f1 is not None:
-                assert np.abs(f1 - f2).max() <= 1e-12 * c2 * 1e9  # pressures ~1e9 Pa
+                assert np.abs(f1 - f2).max() <= 1e-12 * float(series(1.0)) * 1e9  # pressures ~1e9 Pa
             pressure = rng.random((6, 5)) * 1e9
             recursion.commit(time, pressure)
             direct.commit(time, pressure)
@@ -172,3 +173,28 @@ def test_unloading_follows_ting():
     dx = grid.spacing[0]
     assert np.abs(result.contact_radius - a)[a > 8 * dx].max() < 0.6 * dx + 0.01 * a.max()
     assert np.abs(result.approach - delta).max() < 1e-2 * delta.max()
+
+
+def test_kelvin_voigt_ramp_follows_lee_radok_at_first_order_and_never_rings():
+    """A solid without instantaneous compliance: pressure held within a step (backward Euler).
+
+    Lee & Radok for a load ramp W = k t: a^3 = (3R/4) k int_0^t C*(s) ds, with
+    C*(t) = (1 - nu^2)/E (1 - exp(-t/tau)), so int = (1 - nu^2)/E (t - tau (1 - exp(-t/tau))).
+    The piecewise-linear scheme rang here (the area jumped up and down from step to step,
+    more so on finer steps); the held pressure converges at first order and monotonically.
+    Grid 65 x 65 over 1.2 mm: about 10 cells per final contact radius.
+    """
+    young, tau, nu, rate = 2e9, 1.0, 0.4, 5.0
+    solid = materials.KelvinVoigt(young=young, viscosity=young * tau, poisson=nu)
+    grid = fw.Grid(shape=(65, 65), size=(1.2e-3, 1.2e-3))
+    errors = []
+    for steps in (12, 48):
+        times = np.linspace(1.0 / steps, 1.0, steps)
+        result = fw.Simulation(grid=grid, material=solid, indenter=indenters.Sphere(radius=RADIUS),
+                               schedule=schedules.Static(load=loads.Ramp(end=rate, duration=1.0), times=times)).run()
+        a = (0.75 * RADIUS * rate * (1 - nu**2) / young * (times - tau * -np.expm1(-times / tau))) ** (1 / 3)
+        assert np.all(np.diff(result.contact_area) >= 0)
+        assert np.all(np.diff(result.approach) > 0)
+        errors.append(abs(result.approach[-1] / (a[-1] ** 2 / RADIUS) - 1))
+    assert errors[1] < 0.015
+    assert 3.0 < errors[0] / errors[1] < 5.0  # first order: four times the steps, a quarter of the error

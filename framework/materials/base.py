@@ -55,3 +55,36 @@ class ComplianceSeries:
                                 np.exp(-start / lam))
             value = value + c * (1 - averaged)
         return value
+
+    @property
+    def linear_steps(self):
+        """True when the time stepper takes the pressure linear within a step (second order).
+
+        A material without an instantaneous compliance (``c0 = 0``, Kelvin-Voigt)
+        takes it constant instead, changed at the start of the step and held
+        (backward Euler, first order): there the linear scheme's error
+        amplification per step tends to -1 as the step shrinks, so the contact
+        rings from step to step instead of settling.
+        """
+        return self.c0 > 0
+
+    def step_response(self, start, end):
+        """Compliance [1/Pa] felt now per unit pressure change made during a step from ``end`` to ``start`` ago.
+
+        The mean of ``C*`` over ``[start, end]`` for a pressure linear within the
+        step, ``C*(end)`` for one changed at the step's start (see :attr:`linear_steps`).
+        """
+        return self.mean(start, end) if self.linear_steps else self(end)
+
+    def step_weights(self, dt):
+        """Per term, ``step_response``'s weight of ``exp(-s/lambda_k)``: how much of a step's change a history field takes up.
+
+        ``(lambda_k/dt)(1 - exp(-dt/lambda_k))`` (1 when ``dt = 0``) for linear
+        steps, ``exp(-dt/lambda_k)`` otherwise, so that
+        ``step_response(0, dt) = c0 + sum_k c_k (1 - weight_k)`` (+ the flow term).
+        """
+        times = self.times
+        if not self.linear_steps:
+            return np.exp(-dt / times)
+        return np.where(dt > 0, times / max(dt, 1e-300) * -np.expm1(-dt / times), 1.0)
+
