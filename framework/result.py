@@ -30,7 +30,9 @@ class Result:
     """Series (one value per step) and fields of a run.
 
     Series: ``times`` [s], ``load`` [N], ``approach`` [m], ``contact_area`` [m^2],
-    ``contact_radius`` [m] (of the disc of the same area), ``max_pressure`` [Pa],
+    ``contact_radius`` [m] (of the disc of the same area: point contacts),
+    ``half_width`` [m] (line contacts on a grid periodic along one axis, else
+    NaN), ``max_pressure`` [Pa],
     ``center`` (n, 2) load centre [m], ``tilt`` (n, 2) [rad],
     ``friction_coefficient`` and ``torque`` [N m] (zero without motion),
     ``iterations`` and ``residual`` of each solve.
@@ -71,9 +73,32 @@ class Result:
         return np.array([np.count_nonzero(r.pressure > 0) for r in self.records]) * self.grid.cell_area
 
     @property
+    def line_contact(self):
+        """True on a grid periodic along exactly one axis: a line contact (plane strain)."""
+        return sum(self.grid.periodic) == 1
+
+    @property
     def contact_radius(self):
-        """Radius of the disc with the contact area [m]."""
+        """Radius of the disc with the contact area [m]: the size of a point contact.
+
+        A line contact (a cylinder along the periodic axis of a grid periodic
+        along one axis) has no radius: read :attr:`half_width` there.
+        """
         return np.sqrt(self.contact_area / np.pi)
+
+    @property
+    def half_width(self):
+        """Half-width of a line contact [m]: the contact area over twice the grid's length along its line.
+
+        A line contact lies along the periodic axis of a grid periodic along
+        exactly one axis; this is its half-width across the line, averaged
+        along it. NaN on other grids, whose contacts have a
+        :attr:`contact_radius` instead.
+        """
+        if not self.line_contact:
+            return np.full(len(self.records), np.nan)
+        length = self.grid.size[0] if self.grid.periodic[0] else self.grid.size[1]
+        return self.contact_area / (2 * length)
 
     @property
     def max_pressure(self):
@@ -197,6 +222,7 @@ class Result:
         center = self.center
         return {"time": self.times, "load": self.load, "approach": self.approach,
                 "contact_area": self.contact_area, "contact_radius": self.contact_radius,
+                "half_width": self.half_width,
                 "max_pressure": self.max_pressure, "center_x1": center[:, 0], "center_x2": center[:, 1],
                 "tilt_x1": self.tilt[:, 0], "tilt_x2": self.tilt[:, 1],
                 "friction_coefficient": self.friction_coefficient, "torque": self.torque,

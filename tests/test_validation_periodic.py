@@ -194,6 +194,8 @@ def test_hertz_line_contact_half_width_and_peak(line_contact):
     profile = pressure[:, 0]
     half_width = np.count_nonzero(profile > 0) * dx1 / 2
     assert half_width == pytest.approx(HERTZ_LINE.half_width, rel=0.01)
+    assert result.half_width[0] == pytest.approx(half_width, rel=1e-12)  # the series a user reads
+    assert line_contact[3].half_width[0] == pytest.approx(half_width, rel=1e-12)
     assert result.max_pressure[0] == pytest.approx(HERTZ_LINE.max_pressure, rel=1e-3)
     x1 = grid.x1
     inner = np.abs(x1) < 0.9 * HERTZ_LINE.half_width
@@ -274,3 +276,10 @@ def test_sphere_periodic_images_raise_the_peak_as_estimated(sphere_runs):
     # the mixed grids are transposes of each other
     mixed_x2, mixed_x1 = results[(False, True)], results[(True, False)]
     assert np.abs(mixed_x1.pressure(0).T - mixed_x2.pressure(0)).max() <= 1e-7 * mixed_x2.max_pressure[0]
+
+
+def test_half_width_is_only_for_line_contacts(sphere_runs):
+    _, results = sphere_runs
+    assert np.isnan(results[(False, False)].half_width[0]) and np.isnan(results[(True, True)].half_width[0])
+    row = results[(False, True)]
+    assert row.half_width[0] == pytest.approx(row.contact_area[0] / (2 * row.grid.size[1]), rel=1e-15)
