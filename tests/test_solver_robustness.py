@@ -186,3 +186,17 @@ def test_odd_periodic_operator_is_the_full_complex_fft_of_two_over_q(n):
     assert np.abs(full.imag).max() < 1e-13 * np.abs(full.real).max()
     np.testing.assert_allclose(operator.apply(a), full.real, rtol=0, atol=1e-13 * np.abs(full.real).max())
     assert np.sum(b * operator.apply(a)) == pytest.approx(np.sum(a * operator.apply(b)), rel=1e-13)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("shape, periodic", [((127, 127), False), ((128, 128), False), ((129, 129), True),
+                                             ((256, 256), True)])
+def test_band_on_larger_grids(shape, periodic):
+    """The same band on grids of the sizes users run (a minute in all: make test-all)."""
+    grid = fw.Grid(shape=shape, size=(SIDE, SIDE), periodic=(periodic, periodic))
+    band = load_band(grid, cells=400)
+    result = fw.Simulation(grid=grid, material=STEEL, indenter=indenters.Sphere(radius=RADIUS),
+                           schedule=schedules.Static(load=band), options=TOLERANCE).run()
+    assert np.all(np.diff(result.contact_area) >= 0)
+    for record, load in list(zip(result.records, band))[::4]:
+        check_solution(grid, record, load)

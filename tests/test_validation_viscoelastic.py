@@ -143,6 +143,7 @@ def test_ramp_approach_against_the_closed_form():
     assert np.abs(result.load[late] / expected[late] - 1).max() < 1e-2
 
 
+@pytest.mark.slow
 def test_ramp_approach_is_second_order_in_the_time_step():
     """Self-convergence on one grid against 640 steps: fitted order ~2 (measured 2.0-2.1).
 
