@@ -31,19 +31,25 @@ class SurfaceCompliance:
     ----------
     grid : framework.Grid
         The surface grid.
+    kernel : ndarray, optional
+        Another kernel in the same layout as the default one (used by
+        :class:`framework.operators.rolling.SteadyRollingCompliance`): on an
+        open grid the ``(2 n1, 2 n2)`` samples in DC-FFT wrap-around order, on
+        a grid periodic along one axis the open axis's wrapped samples times
+        the DFT modes of the periodic axis (see :func:`mixed_mode_kernel`).
     """
 
-    def __init__(self, grid):
+    def __init__(self, grid, kernel=None):
         self.grid = grid
         periodic = grid.periodic
         self._windows = {}
-        if not any(periodic):
-            self._kernel = self._love_kernel(grid)
-            spectrum = fft.rfft2(self._kernel)
-        elif all(periodic):
+        if all(periodic):
             spectrum = self._periodic_spectrum(grid)
+        elif any(periodic):
+            spectrum = _mixed_spectrum(grid, _mixed_kernel(grid) if kernel is None else kernel)
         else:
-            spectrum = self._mixed_spectrum(grid)
+            self._kernel = self._love_kernel(grid) if kernel is None else kernel
+            spectrum = fft.rfft2(self._kernel)
         self._convolution = Convolution(spectrum, grid.shape, periodic)
 
     @staticmethod
@@ -66,40 +72,6 @@ class SurfaceCompliance:
         with np.errstate(divide="ignore"):
             spectrum = np.where(q > 0, 2.0 / q, 0.0)
         return spectrum
-
-    @staticmethod
-    def _mixed_spectrum(grid):
-        # Work with axis 0 open and axis 1 periodic; transpose back at the end.
-        transpose = grid.periodic[0]
-        (n_open, n_per), (d_open, d_per) = grid.shape, grid.spacing
-        size_open = grid.size[0]
-        if transpose:
-            n_open, n_per, d_open, d_per = n_per, n_open, d_per, d_open
-            size_open = grid.size[1]
-        offsets = np.nan_to_num(wrapped_offsets(n_open, d_open, False))
-        upper = offsets[:, None] + d_open / 2
-        lower = offsets[:, None] - d_open / 2
-        q = 2 * np.pi * np.fft.fftfreq(n_per, d_per)[None, :]
-        kernel = np.empty((offsets.size, n_per))
-
-        def integral_k0(x):  # int_0^x K0(t) dt, odd in x
-            return np.sign(x) * iti0k0(np.abs(x))[1]
-
-        qn = np.abs(q[:, 1:])
-        kernel[:, 1:] = (2 / np.pi) * (integral_k0(qn * upper) - integral_k0(qn * lower)) / qn
-
-        def integral_log(x):  # int_0^x ln(|s|/L) ds
-            with np.errstate(divide="ignore", invalid="ignore"):
-                value = x * np.log(np.abs(x) / size_open) - x
-            return np.where(x == 0, 0.0, value)
-
-        kernel[:, 0] = -(2 / np.pi) * (integral_log(upper[:, 0]) - integral_log(lower[:, 0]))
-        kernel[n_open, :] = 0.0
-        # kernel holds the DFT along the periodic axis; finish with the FFT along the open axis
-        spectrum = np.fft.fft(kernel, axis=0)
-        if transpose:  # rfft layout: the last (padded open) axis keeps its first half
-            return spectrum.T[:, : n_open + 1]
-        return spectrum[:, : n_per // 2 + 1]
 
     def apply(self, pressure):
         """``K * p`` [Pa m] for a pressure field ``(n1, n2)`` [Pa]."""
@@ -151,4 +123,64 @@ class SurfaceCompliance:
             kernel[:, m2] = 0.0
             convolution = self._windows[shape] = Convolution(fft.rfft2(kernel), shape, (False, False))
         return convolution.apply(field)
+
+
+def _integral_log(x, h, length):
+    """``int_{x-h}^{x+h} ln(|s|/length) ds``, without the cancellation of two large terms far away."""
+    x = np.asarray(x, dtype=float)
+    near = np.abs(x) <= 2 * h
+
+    def primitive(y):  # int_0^y ln(|s|/length) ds
+        with np.errstate(divide="ignore", invalid="ignore"):
+            value = y * np.log(np.abs(y) / length) - y
+        return np.where(y == 0, 0.0, value)
+
+    safe = np.where(near, 2 * h + 1.0, x)
+    u = h / safe
+    far = 2 * h * np.log(np.abs(safe) / length) + safe * ((1 + u) * np.log1p(u) - (1 - u) * np.log1p(-u)) - 2 * h
+    return np.where(near, primitive(x + h) - primitive(x - h), far)
+
+
+def mixed_mode_kernel(grid):
+    """The kernel of a grid periodic along one axis, as a function of the offset along the open axis.
+
+    Returns a function ``kernel(x)`` -> ``(len(x), n_periodic)``: per DFT mode
+    ``q`` of the periodic axis, the exact cell integral along the open axis of
+    ``(2/pi) K0(|q| s)`` at offsets ``x`` [m] (per unit compliance), and for
+    ``q = 0`` the plane-strain strip ``-(2/pi) int ln(|s|/L) ds``, ``L`` the grid
+    side along the open axis (plane-strain displacements are defined up to a
+    constant; this fixes it).
+    """
+    open_axis = 1 if grid.periodic[0] else 0
+    d_open, size_open = grid.spacing[open_axis], grid.size[open_axis]
+    n_per, d_per = grid.shape[1 - open_axis], grid.spacing[1 - open_axis]
+    q = np.abs(2 * np.pi * np.fft.fftfreq(n_per, d_per))[None, 1:]
+
+    def integral_k0(y):  # int_0^y K0(t) dt, odd in y
+        return np.sign(y) * iti0k0(np.abs(y))[1]
+
+    def kernel(x):
+        x = np.asarray(x, dtype=float)[:, None]
+        out = np.empty((x.shape[0], n_per))
+        out[:, 1:] = (2 / np.pi) * (integral_k0(q * (x + d_open / 2)) - integral_k0(q * (x - d_open / 2))) / q
+        out[:, 0] = -(2 / np.pi) * _integral_log(x[:, 0], d_open / 2, size_open)
+        return out
+    return kernel
+
+
+def _mixed_kernel(grid):
+    """The wrapped kernel of a grid periodic along one axis, in the grid's orientation (modes on the periodic axis)."""
+    open_axis = 1 if grid.periodic[0] else 0
+    n_open = grid.shape[open_axis]
+    kernel = mixed_mode_kernel(grid)(np.nan_to_num(wrapped_offsets(n_open, grid.spacing[open_axis], False)))
+    kernel[n_open, :] = 0.0
+    return kernel if open_axis == 0 else kernel.T
+
+
+def _mixed_spectrum(grid, kernel):
+    """The rfft-layout spectrum of a wrapped mixed kernel: FFT along the open axis, half of the last axis."""
+    open_axis = 1 if grid.periodic[0] else 0
+    spectrum = np.fft.fft(kernel, axis=open_axis)
+    last = spectrum.shape[1]
+    return np.ascontiguousarray(spectrum[:, : last // 2 + 1])
 
