@@ -28,3 +28,27 @@ def unwritable_folder(tmp_path):
     if not os.path.isdir(folder) or writable:
         pytest.skip(f"running as root and {folder} is not an existing folder closed to new files")
     yield folder
+
+
+@pytest.fixture
+def flip_byte():
+    """``flip_byte(path, dataset, step=0)``: damage one byte of a dataset's stored data in an HDF5 file."""
+    h5py = pytest.importorskip("h5py")
+
+    def flip_byte(path, dataset, step=0):
+        """Invert the middle byte of a dataset's raw (filtered) data: of the chunk holding ``step``, or of the whole."""
+        with h5py.File(path, "r") as f:
+            stored, chunks = f[dataset].id, f[dataset].chunks
+            if chunks:
+                corner = (step // chunks[0] * chunks[0],) + (0,) * (len(chunks) - 1)
+                info = stored.get_chunk_info_by_coord(corner)
+                offset, size = info.byte_offset, info.size
+            else:
+                offset, size = stored.get_offset(), stored.get_storage_size()
+        with open(path, "r+b") as f:
+            f.seek(offset + size // 2)
+            byte = f.read(1)
+            f.seek(offset + size // 2)
+            f.write(bytes([byte[0] ^ 0xFF]))
+
+    return flip_byte

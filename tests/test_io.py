@@ -130,24 +130,6 @@ def test_save_into_a_folder_that_cannot_hold_the_file(tmp_path, unwritable_folde
 # --------------------------------------------------------------------------- damaged files
 
 
-def flip_byte(path, dataset, step=0):
-    """Invert the middle byte of a dataset's raw (filtered) data: of the chunk holding ``step``, or of the whole."""
-    h5py = pytest.importorskip("h5py")
-    with h5py.File(path, "r") as f:
-        stored, chunks = f[dataset].id, f[dataset].chunks
-        if chunks:
-            corner = (step // chunks[0] * chunks[0],) + (0,) * (len(chunks) - 1)
-            info = stored.get_chunk_info_by_coord(corner)
-            offset, size = info.byte_offset, info.size
-        else:
-            offset, size = stored.get_offset(), stored.get_storage_size()
-    with open(path, "r+b") as f:
-        f.seek(offset + size // 2)
-        byte = f.read(1)
-        f.seek(offset + size // 2)
-        f.write(bytes([byte[0] ^ 0xFF]))
-
-
 @pytest.fixture
 def checkpoint(tmp_path):
     path = tmp_path / "c.h5"
@@ -157,7 +139,7 @@ def checkpoint(tmp_path):
 
 @pytest.mark.parametrize("dataset, step", [("series/approach", 0), ("series/time", 0), ("fields/pressure", 9),
                                             ("fields/displacement", 16), ("state/fields", 0), ("state/time", 0)])
-def test_a_flipped_byte_is_found_when_read(checkpoint, monkeypatch, dataset, step):
+def test_a_flipped_byte_is_found_when_read(checkpoint, monkeypatch, flip_byte, dataset, step):
     flip_byte(checkpoint, dataset, step)
     damaged = rf"'.*c.h5' is damaged: dataset '{dataset}' fails its checksum or cannot be decompressed"
     with pytest.raises(errors.ParameterError, match="path: " + damaged) as caught:
