@@ -44,8 +44,8 @@ import time
 import uuid
 import warnings
 
-from .errors import FrameworkError, ParameterError
 from . import io
+from .errors import FrameworkError, ParameterError
 from .scenario import TABLES, ScenarioError, parse, tomllib
 
 EXTRA = "pip install 'viscocontact[cluster]'"
