@@ -213,7 +213,12 @@ class Result:
                 "options": describe(self.options)}
 
     def save(self, path):
-        """Write everything to the HDF5 file ``path`` (read back with :func:`framework.load_result`)."""
+        """Write everything to the HDF5 file ``path`` (read back with :func:`framework.load_result`).
+
+        Every dataset carries a checksum that reading verifies (layout in
+        :mod:`framework.io`). ``path`` must not be a folder, and its folder must
+        exist and be writable: else :class:`ParameterError` naming ``path``.
+        """
         from .io import save
         save(self, path)
 

@@ -287,19 +287,31 @@ class Simulation:
         callback : callable, optional
             ``callback(result, record)`` after each finished step (e.g. to write
             it to disk at once).
-        checkpoint : str, optional
+        checkpoint : str or os.PathLike, optional
             HDF5 file rewritten every ``every`` steps and at the end with the
-            finished steps and the stepper's history (atomic renames).
+            finished steps and the stepper's history (atomic renames). Its
+            folder must exist and be writable.
         every : int
-            Steps between checkpoints.
-        resume : str, optional
+            Steps between checkpoints (an integer >= 1).
+        resume : str or os.PathLike, optional
             A checkpoint of this same configuration: continue from it. The
             result equals the one of an uninterrupted run.
 
+        Every argument is checked before the first step: a bad one raises
+        :class:`ParameterError` naming it (a folder or a missing folder as
+        ``checkpoint``, a missing, foreign or damaged ``resume`` file, ...).
         If a step fails, the exception carries the finished steps as
         ``exc.partial_result`` (also kept in ``self.result``).
         """
         from . import io
+        from ._validation import check_positive_int
+        if not isinstance(progress, bool):
+            raise ParameterError(f"progress must be True or False, got {progress!r}")
+        if callback is not None and not callable(callback):
+            raise ParameterError(f"callback must be callable as callback(result, record) or None, got {callback!r}")
+        every = check_positive_int(every, name="every (steps between checkpoints)")
+        if checkpoint is not None:
+            checkpoint = io.check_target(checkpoint, name="checkpoint")
         self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options)
         state = None
         if resume is not None:
@@ -311,7 +323,8 @@ class Simulation:
 
         def save():
             position = self._position
-            io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1]))
+            io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1]),
+                    name="checkpoint")
 
         try:
             for record in self.steps(state):
@@ -336,14 +349,20 @@ class Simulation:
     def _resume(self, path, result):
         """Load the finished steps of a checkpoint into ``result``; return the stepper state (None: done)."""
         import json
+        import os
         from . import io
-        configuration, records, state = io.read(path)
+        configuration, records, state = io.read(path, name="resume")
+        path = os.fspath(path)
         mine = result.configuration()
         differing = sorted(key for key in mine if key != "framework_version"
                            and json.dumps(mine[key]) != json.dumps(configuration.get(key)))
         if differing:
             raise ParameterError(f"resume: the checkpoint {path!r} was written for another configuration "
                                  f"({', '.join(differing)} differ); run it with its own scenario or start afresh")
+        outputs = len(self.schedule.times)
+        if state is None and len(records) < outputs:
+            raise ParameterError(f"resume: {path!r} holds {len(records)} of the {outputs} steps and no stepper "
+                                 f"state: it is a saved result, not a checkpoint (run(checkpoint=...) writes one)")
         for record in records:
             result.append(record)
         if state is None or int(state["station"]) >= len(_stations(self.schedule)):

@@ -4,8 +4,9 @@
 
 runs ``build(**point).run()`` for every point of the Cartesian product on a
 Dask cluster, saves each result to ``study/point_<index>_<hash>.h5`` and the
-last step's scalars of every point to ``study/sweep.csv``. A rerun skips the
-points whose file is there, so a killed sweep is finished by running it again.
+last step's scalars of every point to ``study/sweep.csv`` (the parameters under
+their own names, the outputs as ``final.<series>``). A rerun skips the points
+whose file is there, so a killed sweep is finished by running it again.
 
 Scenario sweeps: :class:`ScenarioBuilder` turns a scenario file (or its
 tables) into a picklable ``build`` whose keyword arguments are dotted keys
@@ -31,18 +32,19 @@ import argparse
 import contextlib
 import copy
 import csv
-import glob
 import hashlib
 import itertools
 import json
 import logging
 import math
 import os
+import re
 import sys
 import time
 import uuid
 import warnings
 
+from . import io
 from .errors import FrameworkError, ParameterError
 from .scenario import TABLES, ScenarioError, parse, tomllib
 
@@ -51,8 +53,13 @@ DEFAULT_FOLDER = "sweep"
 TABLE_FILE = "sweep.csv"
 NETCDF_FILE = "sweep.nc"
 STATUS = ("done", "skipped", "failed")
-#: Columns of every row besides the parameters and the scalar series.
+#: Columns of every row besides the parameters and the outputs (reserved: no parameter may take these names).
 BOOKKEEPING = ("index", "status", "error", "file", "wall_time", "steps")
+#: The last step's value of a series is the column ``final.<series>`` (``final.load``): a dotted name, which
+#: no keyword argument of a ``build`` function and no scenario key (``material.young``: a table first) can be.
+OUTPUT_PREFIX = "final."
+#: Temporary files of a point being written (see :func:`run_point`), and those of Result.save inside them.
+PARTIAL = r"\.{stem}\.[0-9a-f]{{8}}\.partial\.h5(\.tmp\d+)?"
 SWEEP_KEYS = ("scenario", "parameters", "points", "folder")
 
 
@@ -102,6 +109,9 @@ def expand(parameters):
 def _check_name(key):
     if not isinstance(key, str) or not key:
         raise ParameterError(f"parameter names must be non-empty strings, got {key!r}")
+    if key in BOOKKEEPING or key.startswith(OUTPUT_PREFIX):
+        raise ParameterError(f"parameter name {key!r} is taken by the table: {list(BOOKKEEPING)} and "
+                             f"'{OUTPUT_PREFIX}<series>' are its own columns; rename the parameter")
 
 
 def _plain(value):
@@ -132,11 +142,22 @@ def series_names():
 
 
 def _last_values(result):
+    """The last step's value of every summary series, keyed by the series' name."""
     out = {}
     for key, values in result.summary().items():
         value = values[-1] if len(values) else float("nan")
         out[key] = value.item() if hasattr(value, "item") else value
     return out
+
+
+def remove_partials(folder, stem=r"point_\d+_[0-9a-f]{8}"):
+    """Remove the temporary files of points (all, or those of ``stem``) left in ``folder`` by killed writes."""
+    pattern = re.compile(PARTIAL.format(stem=stem))
+    with contextlib.suppress(OSError):
+        for entry in os.listdir(folder):
+            if pattern.fullmatch(entry):
+                with contextlib.suppress(OSError):
+                    os.remove(os.path.join(folder, entry))
 
 
 def _message(exc):
@@ -174,17 +195,13 @@ def run_point(build, point, folder, name):
         result = simulation.run()
         wall_time = time.perf_counter() - start
         os.makedirs(folder, exist_ok=True)
-        for stale in glob.glob(os.path.join(glob.escape(folder), f".{glob.escape(stem)}.*")):
-            with contextlib.suppress(OSError):
-                os.remove(stale)  # left by a killed run of this point
+        remove_partials(folder, re.escape(stem))  # left by a killed run of this point (e.g. a worker that died)
         try:
             result.save(temporary)
             _stamp(temporary, point, wall_time)
             os.replace(temporary, path)
         finally:
-            for leftover in glob.glob(glob.escape(temporary) + "*"):  # ours, and any of Result.save's own
-                with contextlib.suppress(OSError):
-                    os.remove(leftover)
+            remove_partials(folder, re.escape(stem))  # ours, and any of Result.save's own, if it failed
         return {"status": "done", "error": "", "file": path, "wall_time": wall_time, "steps": len(result),
                 "series": _last_values(result)}
     except Exception as exc:  # noqa: BLE001 - reported in the table, the other points go on
@@ -274,9 +291,11 @@ def sweep(build, parameters, client=None, folder=None, *, outputs=None, progress
         A ``Client``: used as is and left open. With workers on other machines
         ``folder`` must be on a file system they all share.
     folder : str, optional
-        Where the files go (default ``"sweep"``, created if needed).
+        Where the files go (default ``"sweep"``, created if needed). It is
+        checked to accept new files before any point runs.
     outputs : list of str, optional
-        The scalar series in the table (default: all of :meth:`Result.summary`).
+        The scalar series in the table (default: all of :meth:`Result.summary`),
+        by their names in :meth:`Result.summary` (``"load"``, ``"max_pressure"``).
     progress : bool
         Print one line per finished point.
 
@@ -284,15 +303,21 @@ def sweep(build, parameters, client=None, folder=None, *, outputs=None, progress
     -------
     list of dict
         One row per point, in point order, with the keys ``index``, the
-        point's parameters, ``status`` (``"done"``, ``"skipped"``: its file was
-        already there and was read back with :func:`framework.load_result`,
-        ``"failed"``: build or run raised), ``error`` (``"Type: message"`` of a
-        failed point, else ``""``), ``file`` (the result file, ``""`` if
-        failed), ``wall_time`` [s] of ``run()``, ``steps`` and the LAST step's
-        value of each series (``time`` [s], ``load`` [N], ``approach`` [m],
-        ``contact_area`` [m^2], ``contact_radius`` [m], ``max_pressure`` [Pa],
-        ``center_x1``, ``center_x2`` [m], ``tilt_x1``, ``tilt_x2`` [rad], ...,
-        ``iterations``, ``residual``); None where a failed point has no value.
+        point's parameters under their own names, ``status`` (``"done"``,
+        ``"skipped"``: its file was already there and was read back with
+        :func:`framework.load_result`, ``"failed"``: build or run raised),
+        ``error`` (``"Type: message"`` of a failed point, else ``""``), ``file``
+        (the result file, ``""`` if failed), ``wall_time`` [s] of ``run()``,
+        ``steps``, and the LAST step's value of each series as
+        ``final.<series>``: ``final.time`` [s], ``final.load`` [N],
+        ``final.approach`` [m], ``final.contact_area`` [m^2],
+        ``final.contact_radius`` [m], ``final.max_pressure`` [Pa],
+        ``final.center_x1``, ``final.center_x2`` [m], ``final.tilt_x1``,
+        ``final.tilt_x2`` [rad], ..., ``final.iterations``,
+        ``final.residual``; None where a failed point has no value. So a
+        swept ``load`` (a parameter) and the load reached (``final.load``)
+        are two columns. The names in ``BOOKKEEPING`` and those starting
+        with ``final.`` cannot be parameters (:class:`ParameterError`).
 
     Files
     -----
@@ -304,7 +329,9 @@ def sweep(build, parameters, client=None, folder=None, *, outputs=None, progress
     changed ``build`` or base scenario is not detected, use a new folder.
     ``folder/sweep.csv``: the table (lists as JSON, missing values empty).
     ``folder/sweep.nc``: the same table as NetCDF, only if ``xarray`` is
-    importable (it is not a dependency of the framework).
+    importable (it is not a dependency of the framework). The hidden
+    temporary files that killed writes left in ``folder`` are removed when a
+    sweep starts there: run one sweep at a time in a folder.
 
     A point whose build or run raises is reported as failed and the others go
     on; Dask does not retry it (a point whose worker process dies is retried
@@ -326,12 +353,13 @@ def sweep(build, parameters, client=None, folder=None, *, outputs=None, progress
             raise ParameterError(f"outputs: unknown series {unknown}; expected some of {names}")
         selected = list(outputs)
     keys = list(dict.fromkeys(key for point in points for key in point))
-    clash = sorted(set(keys) & (set(BOOKKEEPING) | set(selected)))
-    if clash:
-        raise ParameterError(f"parameter name(s) {clash} clash with the table's columns; rename them")
     distributed = _import_distributed()
-    folder = DEFAULT_FOLDER if folder is None else os.fspath(folder)
-    os.makedirs(folder, exist_ok=True)
+    # the table is written after every point ran: make sure it can be
+    folder = io.check_folder(DEFAULT_FOLDER if folder is None else folder, name="folder", create=True)
+    table = os.path.join(folder, TABLE_FILE)
+    if os.path.isdir(table):
+        raise ParameterError(f"folder: {table!r} is a folder; the sweep writes its table there")
+    remove_partials(folder)
 
     files = [point_file(index, point) for index, point in enumerate(points)]
     outcomes = [None] * len(points)
@@ -374,9 +402,9 @@ def sweep(build, parameters, client=None, folder=None, *, outputs=None, progress
         row = {"index": index}
         row.update({key: _plain(point[key]) if key in point else None for key in keys})
         row.update({key: outcome[key] for key in BOOKKEEPING[1:]})
-        row.update({key: outcome["series"].get(key) for key in selected})
+        row.update({OUTPUT_PREFIX + key: outcome["series"].get(key) for key in selected})
         rows.append(row)
-    write_table(rows, os.path.join(folder, TABLE_FILE))
+    write_table(rows, table)
     _write_netcdf(rows, os.path.join(folder, NETCDF_FILE))
     return rows
 
@@ -401,7 +429,7 @@ def _cell(value):
 def write_table(rows, path):
     """Write ``rows`` (dicts with the same keys) to the CSV file ``path`` (temporary name, then rename)."""
     columns = list(rows[0]) if rows else list(BOOKKEEPING)
-    temporary = f"{path}.tmp{os.getpid()}"
+    temporary = io.temporary(path)
     with open(temporary, "w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(columns)
@@ -601,15 +629,14 @@ def read_sweep(path):
 
 # --------------------------------------------------------------------------- command line
 
-SHOWN = ("load", "contact_radius", "max_pressure", "wall_time")
+SHOWN = ("final.load", "final.contact_radius", "final.max_pressure", "wall_time")
 
 
 def format_table(rows):
     """The table as aligned text: the parameters, the status and a few outputs (or the error)."""
     if not rows:
         return ""
-    series = set(series_names())
-    keys = [k for k in rows[0] if k not in BOOKKEEPING and k not in series]
+    keys = [k for k in rows[0] if k not in BOOKKEEPING and not k.startswith(OUTPUT_PREFIX)]
     lines = [["#"] + keys + ["status"] + list(SHOWN)]
     for row in rows:
         cells = [str(row["index"])] + [f"{row[k]:.6g}" if isinstance(row[k], float) else _cell(row[k])

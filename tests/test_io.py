@@ -46,10 +46,201 @@ def test_round_trip_of_an_eccentric_run_with_a_height_map_function(tmp_path):
 
 def test_not_a_result_file(tmp_path):
     (tmp_path / "x.h5").write_text("hello")
-    with pytest.raises(errors.ParameterError, match="is not an HDF5 result file"):
+    with pytest.raises(errors.ParameterError, match=r"path: '.*x.h5' is not a readable HDF5 file: another kind"):
         fw.load_result(tmp_path / "x.h5")
-    with pytest.raises(errors.ParameterError, match="no result file at"):
+    with pytest.raises(errors.ParameterError, match="path: no result file at '.*missing.h5'"):
         fw.load_result(tmp_path / "missing.h5")
+    h5py = pytest.importorskip("h5py")
+    with h5py.File(tmp_path / "other.h5", "w") as f:
+        f["x"] = np.arange(3.0)
+    with pytest.raises(errors.ParameterError, match=r"'.*other.h5' is not a result file of format 1 or 2"):
+        fw.load_result(tmp_path / "other.h5")
+    with h5py.File(tmp_path / "other.h5", "a") as f:
+        f.attrs["format"] = 3
+        f.create_group("series")
+    with pytest.raises(errors.ParameterError, match=r"format 1 or 2 \(format 3: written by a newer framework\)"):
+        fw.load_result(tmp_path / "other.h5")
+
+
+def no_step(*args, **kwargs):
+    raise AssertionError("a step was solved before the arguments were checked")
+
+
+def stray_files(*folders):
+    return sorted(name for folder in folders for name in os.listdir(folder) if ".tmp" in name)
+
+
+@pytest.mark.parametrize("arguments, message", [
+    ({"every": 0}, r"every \(steps between checkpoints\) must be an integer >= 1, got 0$"),
+    ({"every": -1}, r"every \(steps between checkpoints\) must be an integer >= 1, got -1$"),
+    ({"every": 2.5}, r"every \(steps between checkpoints\) must be an integer >= 1, got 2.5$"),
+    ({"every": True}, r"every \(steps between checkpoints\) must be an integer >= 1, got True$"),
+    ({"every": "10"}, r"every \(steps between checkpoints\) must be an integer >= 1, got '10'$"),
+    ({"checkpoint": "FOLDER"}, r"checkpoint: '.*' is a folder; expected the path of a file to write, e.g. '.*h5'"),
+    ({"checkpoint": "FOLDER/missing/c.h5"}, r"checkpoint: cannot write '.*missing/c.h5': the folder '.*missing' does "
+                                            r"not exist; create it first"),
+    ({"checkpoint": 3}, r"checkpoint must be a file path \(a non-empty str or os.PathLike\), got 3"),
+    ({"checkpoint": ""}, r"checkpoint must be a file path \(a non-empty str or os.PathLike\), got ''"),
+    ({"resume": "FOLDER/missing.h5"}, r"resume: no result file at '.*missing.h5'"),
+    ({"resume": "FOLDER/notes.txt"}, r"resume: '.*notes.txt' is not a readable HDF5 file"),
+    ({"resume": 3.0}, r"resume must be a file path \(a non-empty str or os.PathLike\), got 3.0"),
+    ({"progress": "yes"}, r"progress must be True or False, got 'yes'"),
+    ({"callback": 3}, r"callback must be callable as callback\(result, record\) or None, got 3"),
+])
+def test_run_checks_its_arguments_before_the_first_step(tmp_path, monkeypatch, arguments, message):
+    (tmp_path / "notes.txt").write_text("not a result")
+    arguments = {key: value.replace("FOLDER", str(tmp_path)) if isinstance(value, str) else value
+                 for key, value in arguments.items()}
+    simulation = build(21)
+    monkeypatch.setattr("framework.simulation.solve_normal", no_step)
+    with pytest.raises(errors.ParameterError, match=message):
+        simulation.run(**arguments)
+    assert stray_files(tmp_path, tmp_path.parent) == []  # a folder as checkpoint left FOLDER.tmpNNN beside it
+
+
+def test_checkpoint_in_a_folder_closed_to_new_files(unwritable_folder, monkeypatch):
+    monkeypatch.setattr("framework.simulation.solve_normal", no_step)
+    with pytest.raises(errors.ParameterError, match=r"checkpoint: cannot create files in the folder '.*' \(.+\); "
+                                                    r"expected a writable folder"):
+        build(21).run(checkpoint=os.path.join(unwritable_folder, "c.h5"))
+
+
+def test_resume_refuses_a_saved_result_that_is_not_a_checkpoint(tmp_path, monkeypatch):
+    result = build(21).run()
+    result.records = result.records[:2]  # a run that failed part-way, saved from exc.partial_result
+    result.save(tmp_path / "partial.h5")
+    monkeypatch.setattr("framework.simulation.solve_normal", no_step)
+    with pytest.raises(errors.ParameterError, match=r"resume: '.*partial.h5' holds 2 of the 17 steps and no stepper "
+                                                    r"state: it is a saved result, not a checkpoint"):
+        build(21).run(resume=tmp_path / "partial.h5")
+
+
+def test_save_into_a_folder_that_cannot_hold_the_file(tmp_path, unwritable_folder):
+    result = build(5).run()
+    with pytest.raises(errors.ParameterError, match=r"path: '.*' is a folder; expected the path of a file"):
+        result.save(tmp_path)
+    with pytest.raises(errors.ParameterError, match=r"path: cannot write '.*nowhere/r.h5': the folder '.*nowhere' "
+                                                    r"does not exist"):
+        result.save(tmp_path / "nowhere" / "r.h5")
+    with pytest.raises(errors.ParameterError, match=r"path: cannot create files in the folder"):
+        result.save(os.path.join(unwritable_folder, "r.h5"))
+    assert stray_files(tmp_path, tmp_path.parent) == [] and os.listdir(tmp_path) == []
+
+
+# --------------------------------------------------------------------------- damaged files
+
+
+@pytest.fixture
+def checkpoint(tmp_path):
+    path = tmp_path / "c.h5"
+    build(21).run(checkpoint=path, every=4)
+    return path
+
+
+@pytest.mark.parametrize("dataset, step", [("series/approach", 0), ("series/time", 0), ("fields/pressure", 9),
+                                            ("fields/displacement", 16), ("state/fields", 0), ("state/time", 0)])
+def test_a_flipped_byte_is_found_when_read(checkpoint, monkeypatch, flip_byte, dataset, step):
+    flip_byte(checkpoint, dataset, step)
+    damaged = rf"'.*c.h5' is damaged: dataset '{dataset}' fails its checksum or cannot be decompressed"
+    with pytest.raises(errors.ParameterError, match="path: " + damaged) as caught:
+        fw.load_result(checkpoint)
+    assert "\n" not in str(caught.value)
+    monkeypatch.setattr("framework.simulation.solve_normal", no_step)
+    with pytest.raises(errors.ParameterError, match="resume: " + damaged):
+        build(21).run(resume=checkpoint)
+
+
+def test_a_changed_configuration_is_found_when_read(checkpoint):
+    """The configuration is an attribute, not a dataset: its own checksum guards it."""
+    data = bytearray(checkpoint.read_bytes())
+    at = data.index(b'"shape": [21, 21]') + len(b'"shape": [')
+    data[at] = ord("3")  # 21 x 21 -> 31 x 21: a valid configuration, for other fields
+    checkpoint.write_bytes(bytes(data))
+    with pytest.raises(errors.ParameterError, match=r"is damaged: the attributes 'framework_version' and "
+                                                    r"'configuration' fail their checksum"):
+        fw.load_result(checkpoint)
+
+
+def test_missing_parts_and_truncated_files_name_the_file(checkpoint, tmp_path):
+    h5py = pytest.importorskip("h5py")
+    whole = checkpoint.read_bytes()
+    for part, message in [("fields/gap", "dataset 'fields/gap' is missing"),
+                          ("series", "dataset 'series/index' is missing"),
+                          ("state/pressure", "dataset 'state/pressure' is missing")]:
+        checkpoint.write_bytes(whole)
+        with h5py.File(checkpoint, "a") as f:
+            del f[part]
+        if part.startswith("state"):
+            with pytest.raises(errors.ParameterError, match=rf"resume: '.*c.h5' is damaged: {message}"):
+                build(21).run(resume=checkpoint)
+            continue
+        with pytest.raises(errors.ParameterError, match=rf"path: '.*c.h5' is damaged: {message}"):
+            fw.load_result(checkpoint)
+    for key in ("checksum", "configuration", "framework_version"):
+        checkpoint.write_bytes(whole)
+        with h5py.File(checkpoint, "a") as f:
+            del f.attrs[key]
+        with pytest.raises(errors.ParameterError, match=rf"c.h5' is damaged: attribute '{key}' of '/' is missing"):
+            fw.load_result(checkpoint)
+    for size in (len(whole) // 2, len(whole) - 100):
+        checkpoint.write_bytes(whole[:size])
+        with pytest.raises(errors.ParameterError, match=r"path: '.*c.h5' is not a readable HDF5 file: .* or "
+                                                        r"truncated \(.*truncated file: eof = "):
+            fw.load_result(checkpoint)
+
+
+def write_format_1(result, path):
+    """A file of format 1 as the framework wrote it before the checksums (framework/io.py at 686b0ac)."""
+    import json
+    h5py = pytest.importorskip("h5py")
+    with h5py.File(path, "w") as f:
+        f.attrs["format"] = 1
+        f.attrs["framework_version"] = result.version
+        f.attrs["configuration"] = json.dumps(result.configuration())
+        series = f.create_group("series")
+        for name in io.SERIES:
+            series.create_dataset(name, data=np.array([getattr(r, name) for r in result.records],
+                                                      dtype=float if name == "tilt" else None))
+        fields = f.create_group("fields")
+        for name in io.FIELDS:
+            fields.create_dataset(name, data=np.array([getattr(r, name) for r in result.records]),
+                                  compression="gzip", compression_opts=1, shuffle=True)
+
+
+def test_files_of_format_1_still_load(tmp_path):
+    result = build(21).run()
+    write_format_1(result, tmp_path / "old.h5")
+    loaded = fw.load_result(tmp_path / "old.h5")
+    assert loaded.configuration() == result.configuration() and len(loaded) == len(result)
+    for a, b in zip(result.records, loaded.records):
+        assert np.array_equal(a.pressure, b.pressure) and (a.time, a.approach, a.tilt) == (b.time, b.approach, b.tilt)
+
+
+def test_every_dataset_is_chunked_with_a_checksum(checkpoint):
+    h5py = pytest.importorskip("h5py")
+    datasets = []
+    with h5py.File(checkpoint, "r") as f:
+        f.visititems(lambda name, item: datasets.append((name, item.chunks, item.fletcher32))
+                     if isinstance(item, h5py.Dataset) else None)
+        assert f.attrs["format"] == 2
+    assert len(datasets) == len(io.SERIES) + len(io.FIELDS) + 6  # state: time, pressure, fields, integral, ...
+    assert [name for name, chunks, checked in datasets if not chunks or not checked] == []
+
+
+def test_leftovers_of_killed_writes_are_removed_by_the_next_run(tmp_path):
+    """``c.h5.tmp<pid>`` of a process that is gone goes; one of a live process, and other files, stay."""
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()
+    alive = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        names = [f"c.h5.tmp{gone.pid}", f"c.h5.tmp{alive.pid}", "c.h5.tmpx", f"d.h5.tmp{gone.pid}", "c.h5.tmp"]
+        for name in names:
+            (tmp_path / name).write_bytes(b"half a file")
+        build(5).run(checkpoint=tmp_path / "c.h5")
+        assert sorted(os.listdir(tmp_path)) == sorted(["c.h5"] + names[1:])
+    finally:
+        alive.kill()
+        alive.wait()
 
 
 def test_resume_refuses_another_configuration(tmp_path):

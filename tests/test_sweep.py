@@ -2,8 +2,10 @@
 import csv
 import importlib
 import itertools
+import math
 import os
 import pickle
+import subprocess
 import sys
 
 import numpy as np
@@ -52,8 +54,13 @@ def h5_files(folder):
 
 
 def same(a, b, scale):
-    """Equal to 1e-12 (relative, or of ``scale`` for values that are rounding noise around zero)."""
-    return a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b), scale)
+    """Equal to 1e-12 (relative, or of ``scale`` for values that are rounding noise around zero); NaN equals NaN."""
+    return a == b or (math.isnan(a) and math.isnan(b)) or abs(a - b) <= 1e-12 * max(abs(a), abs(b), scale)
+
+
+def comparable(row):
+    """A row without its status, NaN (a series undefined for the contact, e.g. half_width) as a string."""
+    return {k: "nan" if isinstance(v, float) and math.isnan(v) else v for k, v in row.items() if k != "status"}
 
 
 def test_sweep_on_two_workers_equals_the_points_run_one_by_one(client, tmp_path):
@@ -69,7 +76,8 @@ def test_sweep_on_two_workers_equals_the_points_run_one_by_one(client, tmp_path)
         with fw.fft.use_backend("scipy"):
             serial = builder(**{key: row[key] for key in PARAMETERS}).run()
         for key, values in serial.summary().items():
-            assert same(row[key], values[-1].item(), scales.get(key, 0.0)), (key, row[key], values[-1])
+            value = row["final." + key]
+            assert same(value, values[-1].item(), scales.get(key, 0.0)), (key, value, values[-1])
         assert row["steps"] == len(serial) == 3 and row["wall_time"] > 0
         saved = fw.load_result(row["file"])
         assert saved.configuration() == serial.configuration()
@@ -80,9 +88,9 @@ def test_sweep_on_two_workers_equals_the_points_run_one_by_one(client, tmp_path)
         table = list(csv.DictReader(f))
     assert len(table) == 4 and [line["status"] for line in table] == ["done"] * 4
     for line, row in zip(table, rows):
-        assert float(line["max_pressure"]) == row["max_pressure"] and line["file"] == row["file"]
+        assert float(line["final.max_pressure"]) == row["final.max_pressure"] and line["file"] == row["file"]
         assert float(line["material.young"]) == row["material.young"]
-    assert "time" in table[0] and "iterations" in table[0] and "wall_time" in table[0]
+    assert "final.time" in table[0] and "final.iterations" in table[0] and "wall_time" in table[0]
 
 
 def test_a_failing_point_is_reported_and_the_others_finish(client, tmp_path):
@@ -97,15 +105,15 @@ def test_a_failing_point_is_reported_and_the_others_finish(client, tmp_path):
     assert [row["status"] for row in rows] == ["done", "failed", "done", "done"]
     failed = rows[1]
     assert failed["error"].startswith("ParameterError: ") and "radius must be positive" in failed["error"]
-    assert failed["file"] == "" and failed["max_pressure"] is None and failed["wall_time"] is None
-    assert all(row["load"] == pytest.approx(100.0) for row in rows if row["status"] == "done")
+    assert failed["file"] == "" and failed["final.max_pressure"] is None and failed["wall_time"] is None
+    assert all(row["final.load"] == pytest.approx(100.0) for row in rows if row["status"] == "done")
     assert set(rows[0]) == {"index", "radius", "young", "status", "error", "file", "wall_time", "steps",
-                            "load", "max_pressure"}
+                            "final.load", "final.max_pressure"}
     assert len(h5_files(tmp_path)) == 3 and sorted(os.listdir(tmp_path)) == sorted(h5_files(tmp_path) + ["sweep.csv"])
     with open(tmp_path / "sweep.csv", newline="") as f:
         table = list(csv.DictReader(f))
     assert table[1]["status"] == "failed" and "radius must be positive" in table[1]["error"]
-    assert table[1]["max_pressure"] == ""
+    assert table[1]["final.max_pressure"] == ""
 
 
 def test_rerun_skips_the_done_points_without_running_them(client, tmp_path):
@@ -119,12 +127,91 @@ def test_rerun_skips_the_done_points_without_running_them(client, tmp_path):
     assert {name: os.stat(tmp_path / name).st_mtime_ns for name in h5_files(tmp_path)} == stamps
     for a, b in zip(first, again):
         if a["status"] == "done":  # read back from the files, to the bit, with the wall time of the first run
-            assert {k: v for k, v in a.items() if k != "status"} == {k: v for k, v in b.items() if k != "status"}
+            assert comparable(a) == comparable(b)
     # another value is another point: it runs, the others are still skipped
     changed = POINTS[:3] + [{"indenter.radius": 10e-3, "material.young": 200e9}]
     third = sw.sweep(builder, changed, client=client, folder=tmp_path)
     assert [row["status"] for row in third] == ["skipped", "failed", "skipped", "done"]
     assert len(h5_files(tmp_path)) == 4
+
+
+def no_cluster(*args, **kwargs):
+    raise AssertionError("the points were sent to run")
+
+
+def hertz_radius(load, radius, young, poisson=0.3):
+    """Hertz's contact radius of a sphere on an elastic half-space [m]."""
+    return (3 * load * radius / (4 * young / (1 - poisson**2))) ** (1 / 3)
+
+
+def test_a_swept_load_and_the_load_reached_are_two_columns(client, tmp_path):
+    """The load is the first thing users sweep: the parameter keeps its name, the output is final.load."""
+    def build(load, radius):
+        return fw.Simulation(grid=fw.Grid(shape=(33, 33), size=(1.2e-3, 1.2e-3)),
+                             material=fw.materials.Elastic(young=210e9, poisson=0.3),
+                             indenter=fw.indenters.Sphere(radius=radius), schedule=fw.schedules.Static(load=load))
+
+    points = [{"load": 20.0, "radius": 10e-3}, {"load": 80.0, "radius": 10e-3}]
+    rows = sw.sweep(build, points, client=client, folder=tmp_path)
+    assert [row["status"] for row in rows] == ["done", "done"]
+    for point, row in zip(points, rows):
+        assert row["load"] == point["load"] and row["final.load"] == pytest.approx(point["load"], rel=1e-9)
+        # Hertz, to the grid's resolution (36 um cells)
+        assert row["final.contact_radius"] == pytest.approx(hertz_radius(point["load"], 10e-3, 210e9), abs=36e-6)
+    with open(tmp_path / "sweep.csv", newline="") as f:
+        header = next(csv.reader(f))
+    assert header[:4] == ["index", "load", "radius", "status"] and "final.load" in header
+    table = sw.format_table(rows).splitlines()
+    assert table[0].split() == ["#", "load", "radius", "status", "final.load", "final.contact_radius",
+                                "final.max_pressure", "wall_time"]
+    assert table[2].split()[:5] == ["1", "80", "0.01", "done", "80"]
+
+
+def test_the_folder_is_checked_before_any_point_runs(tmp_path, unwritable_folder, monkeypatch, capsys):
+    """A folder that cannot take the files fails at once, not after every point was computed."""
+    monkeypatch.setattr(sw, "_connect", no_cluster)
+    (tmp_path / "a file").write_text("")
+    (tmp_path / "table" / "sweep.csv").mkdir(parents=True)
+    for folder, message in [
+        (tmp_path / "a file", r"folder: '.*a file' is a file; expected a folder"),
+        (tmp_path / "a file" / "sub", r"folder: cannot create the folder '.*a file/sub' \(Not a directory\)"),
+        (unwritable_folder, r"folder: cannot create files in the folder '.*' \(.+\); expected a writable folder"),
+        (tmp_path / "table", r"folder: '.*table/sweep.csv' is a folder; the sweep writes its table there"),
+    ]:
+        with pytest.raises(ParameterError, match=message):
+            sw.sweep(sw.ScenarioBuilder(BASE), PARAMETERS, folder=folder)
+    assert sw.main([EXAMPLE, "--folder", str(tmp_path / "a file")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: folder: ") and "is a file" in err and len(err.splitlines()) == 1
+
+
+def test_leftovers_of_killed_writes_are_removed_at_the_next_sweep(tmp_path, monkeypatch):
+    """Partial point files stay when their point is not run again (its file is there): the next sweep removes them."""
+    builder = sw.ScenarioBuilder(BASE)
+    point = {"indenter.radius": 5e-3}
+    name = sw.point_file(0, point)
+    assert sw.run_point(builder, point, str(tmp_path), name)["status"] == "done"
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()
+    leftovers = [f".{name[:-3]}.0badc0de.partial.h5", f".{name[:-3]}.0badc0de.partial.h5.tmp{gone.pid}",
+                 f".point_0007_{sw.point_hash({'a': 1})}.12345678.partial.h5", f"sweep.csv.tmp{gone.pid}"]
+    kept = [".notes.partial.h5", "point_0000.partial.h5", "sweep.csv.tmpx"]
+    for leftover in leftovers + kept:
+        (tmp_path / leftover).write_bytes(b"half a file")
+    monkeypatch.setattr(sw, "_connect", no_cluster)  # the one point is skipped
+    rows = sw.sweep(builder, [point], folder=tmp_path)
+    assert [row["status"] for row in rows] == ["skipped"]
+    assert sorted(os.listdir(tmp_path)) == sorted([name, "sweep.csv"] + kept)
+
+
+def test_a_damaged_point_file_is_run_again(client, tmp_path, flip_byte):
+    builder = sw.ScenarioBuilder(BASE)
+    first = sw.sweep(builder, PARAMETERS, client=client, folder=tmp_path)
+    flip_byte(first[2]["file"], "series/approach")
+    again = sw.sweep(builder, PARAMETERS, client=client, folder=tmp_path)
+    assert [row["status"] for row in again] == ["skipped", "skipped", "done", "skipped"]
+    assert again[2]["final.approach"] == first[2]["final.approach"]
+    assert fw.load_result(again[2]["file"]).approach[-1] == first[2]["final.approach"]
 
 
 def test_a_killed_point_leaves_no_half_file(tmp_path, monkeypatch):
@@ -173,7 +260,7 @@ def test_the_command_runs_the_example_sweep_and_skips_on_rerun(tmp_path, capsys,
         {("0.005", "70000000000.0"), ("0.005", "210000000000.0"), ("0.01", "70000000000.0"),
          ("0.01", "210000000000.0")}
     assert {line["grid.shape"] for line in table} == {"[33, 33]"}
-    radii = {(float(line["indenter.radius"]), float(line["material.young"])): float(line["contact_radius"])
+    radii = {(float(line["indenter.radius"]), float(line["material.young"])): float(line["final.contact_radius"])
              for line in table}
     for (radius, young), a in radii.items():  # Hertz, to the coarse grid's resolution (37 um cells)
         hertz = (3 * 100.0 * radius / (4 * young / (1 - 0.3**2))) ** (1 / 3)
@@ -215,8 +302,11 @@ def test_points_are_numbered_deterministically():
                          ([{"a": 1}, 3], r"parameters\[1\]"), ("a", "expected a dict")]:
         with pytest.raises(ParameterError, match=message):
             sw.expand(bad)
-    with pytest.raises(ParameterError, match=r"clash with the table's columns"):
-        sw.sweep(sw.ScenarioBuilder(BASE), {"load": [1.0]})
+    for name in ("status", "steps", "final.load"):
+        with pytest.raises(ParameterError, match=rf"parameter name '{name}' is taken by the table: \['index', "
+                                                 rf"'status', 'error', 'file', 'wall_time', 'steps'\] and "
+                                                 rf"'final.<series>' are its own columns; rename the parameter"):
+            sw.sweep(sw.ScenarioBuilder(BASE), {name: [1.0]})
     with pytest.raises(ParameterError, match=r"outputs: unknown series \['presure'\]"):
         sw.sweep(sw.ScenarioBuilder(BASE), PARAMETERS, outputs=["presure"])
 
