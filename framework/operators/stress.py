@@ -4,13 +4,16 @@ import numpy as np
 from .. import fft
 from ..errors import ParameterError
 from .convolution import Convolution, wrapped_offsets
-from .kernels import subsurface_stress
+from .kernels import periodic_subsurface_stress, subsurface_stress
 
 VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
-# Love's kernels are even or odd in each offset, so each spectrum is real or imaginary:
+# Love's kernels (and their sums over periodic images) are even or odd in each offset, so each
+# spectrum is real or imaginary:
 # xx, yy, zz (even, even) and xy (odd, odd) real; yz (even, odd) and xz (odd, even) imaginary.
 _PHASE = np.array([1, 1, 1, 1j, 1j, 1])[:, None, None]
 _REAL = _PHASE.imag == 0
+# Voigt components seen from the transposed axes: xx <-> yy, yz <-> xz.
+_SWAP_AXES = [1, 0, 2, 4, 3, 5]
 
 
 class SubsurfaceStress:
@@ -24,7 +27,12 @@ class SubsurfaceStress:
     ``s_nn = -(1 - k z) e^{-kz}``, ``s_zz = -(1 + k z) e^{-kz}``,
     ``s_nz = i k z e^{-kz}``, ``s_tt = nu (s_nn + s_zz)`` per unit pressure,
     ``k = |q|``; the mean pressure gives ``s_zz = -p`` and the angular mean
-    ``s_11 = s_22 = -(1 + 2 nu) p / 2``.
+    ``s_11 = s_22 = -(1 + 2 nu) p / 2``. Grids periodic along one axis (line
+    contacts) use the sum of Love's coefficients over the periodic images of
+    each cell (:func:`~framework.operators.kernels.periodic_subsurface_stress`:
+    the plane-strain strip, Johnson 1985 sec. 2.7, plus tapered image sums,
+    ~1e-13 of the pressure), DC-FFT along the open axis and circular along the
+    periodic one; the pressure is piecewise constant along both axes.
 
     Kernel spectra are cached per depth while they fit in ``cache_bytes``.
 
@@ -40,29 +48,43 @@ class SubsurfaceStress:
     """
 
     def __init__(self, grid, poisson, cache_bytes=2 * 1024**3):
-        if sum(grid.periodic) == 1:
-            raise ParameterError(
-                f"subsurface stresses need both surface axes periodic or neither, got periodic={grid.periodic}; "
-                "use a doubly periodic grid (e.g. periodic=(True, True)) for line contacts with stresses")
         self.grid = grid
         self.poisson = float(poisson)
         self.cache_bytes = cache_bytes
         self._cache = {}
         self._convolution = None if all(grid.periodic) else Convolution(None, grid.shape, grid.periodic)
 
-    def _love_spectrum(self, depth):
-        spectrum = self._cache.get(depth)
-        if spectrum is not None:
-            return spectrum
+    def _love_kernel(self, depth):
         (n1, n2), (dx1, dx2) = self.grid.shape, self.grid.spacing
         o1 = np.nan_to_num(wrapped_offsets(n1, dx1, False))
         o2 = np.nan_to_num(wrapped_offsets(n2, dx2, False))
         offsets1, offsets2 = np.meshgrid(o1, o2, indexing="ij")
         kernel = subsurface_stress(offsets1, offsets2, depth, half1=dx1 / 2, half2=dx2 / 2, poisson=self.poisson)
-        kernel = np.moveaxis(kernel, -1, 0)
-        kernel[:, n1, :] = 0.0
-        kernel[:, :, n2] = 0.0
-        full = fft.rfft2(np.ascontiguousarray(kernel))
+        kernel[n1, :] = 0.0
+        kernel[:, n2] = 0.0
+        return kernel
+
+    def _image_kernel(self, depth):
+        # Build with axis 0 open and axis 1 periodic; for the transposed grid, swap the
+        # axes and the components (xx <-> yy, yz <-> xz) at the end.
+        transpose = self.grid.periodic[0]
+        (n_open, n_per), (d_open, d_per) = self.grid.shape, self.grid.spacing
+        if transpose:
+            n_open, n_per, d_open, d_per = n_per, n_open, d_per, d_open
+        offsets = np.nan_to_num(wrapped_offsets(n_open, d_open, False))
+        kernel = periodic_subsurface_stress(offsets, depth, half1=d_open / 2, half2=d_per / 2, cells=n_per,
+                                            poisson=self.poisson)
+        kernel[n_open] = 0.0
+        if transpose:
+            return kernel.transpose(1, 0, 2)[..., _SWAP_AXES]
+        return kernel
+
+    def _kernel_spectrum(self, depth):
+        spectrum = self._cache.get(depth)
+        if spectrum is not None:
+            return spectrum
+        kernel = self._image_kernel(depth) if any(self.grid.periodic) else self._love_kernel(depth)
+        full = fft.rfft2(np.ascontiguousarray(np.moveaxis(kernel, -1, 0)))
         spectrum = np.where(_REAL, full.real, full.imag)
         if (len(self._cache) + 1) * spectrum.nbytes <= self.cache_bytes:
             self._cache[depth] = spectrum
@@ -106,6 +128,6 @@ class SubsurfaceStress:
             return out
         p_hat = self._convolution.transform(pressure)
         for j, depth in enumerate(depths):
-            stresses = self._convolution.apply_spectrum(p_hat, self._love_spectrum(float(depth)) * _PHASE)
+            stresses = self._convolution.apply_spectrum(p_hat, self._kernel_spectrum(float(depth)) * _PHASE)
             out[:, :, j, :] = np.moveaxis(stresses, 0, -1)
         return out

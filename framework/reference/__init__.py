@@ -4,12 +4,15 @@
 - :mod:`.punch`: flat punch (Boussinesq) and rounded flat punch (Ciavarella 1999).
 - :mod:`.westergaard`: periodic wavy surface (Westergaard 1939).
 - :mod:`.boussinesq`: point-load fields and rectangle loads by quadrature.
+- :mod:`.plane_strain`: line load (Flamant), uniform strip and Hertz line
+  contact (McEwen 1949) stresses, and line loads by quadrature.
 - :mod:`.viscoelastic`: Lee & Radok (1960) step load, step and ramp approach;
   Ting (1966) / Graham (1967) receding contact (sphere, single maximum).
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
 from .hertz import HertzCylinder, HertzSphere
+from .plane_strain import hertz_line_stress, line_load_stress, plane_strain_stress_by_quadrature, strip_stress
 from .punch import FlatPunch, RoundedFlatPunch
 from .viscoelastic import (TingSolution, lee_radok_load_for_approach, lee_radok_ramp_load,
                            lee_radok_step_approach_load, lee_radok_step_load, lee_radok_step_load_pressure,
@@ -20,4 +23,5 @@ __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Tin
            "lee_radok_load_for_approach", "lee_radok_ramp_load", "lee_radok_step_approach_load", "lee_radok_step_load",
            "lee_radok_step_load_pressure", "ting_contact_radius",
            "point_load_displacement", "point_load_stress", "rectangle_displacement_by_quadrature",
-           "rectangle_stress_by_quadrature"]
+           "rectangle_stress_by_quadrature", "hertz_line_stress", "line_load_stress",
+           "plane_strain_stress_by_quadrature", "strip_stress"]

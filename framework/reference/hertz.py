@@ -17,6 +17,7 @@ from scipy.optimize import minimize_scalar
 
 from .._validation import check_poisson, check_positive
 from ..errors import ParameterError
+from .plane_strain import hertz_line_stress
 
 
 @dataclass(frozen=True)
@@ -220,3 +221,24 @@ class HertzCylinder:
         """
         ratio_squared = (np.asarray(x, dtype=float) / self.half_width) ** 2
         return self.max_pressure * np.sqrt(np.clip(1.0 - ratio_squared, 0.0, None))
+
+    def stress(self, x, depth, poisson):
+        """Subsurface stresses (McEwen 1949), see :func:`framework.reference.plane_strain.hertz_line_stress`.
+
+        Parameters
+        ----------
+        x : array_like
+            Distance from the centre line [m], across the contact.
+        depth : array_like
+            Depth x3 >= 0 [m]; broadcast with ``x``.
+        poisson : float
+            Poisson ratio nu [-].
+
+        Returns
+        -------
+        numpy.ndarray
+            Stress [Pa], shape ``broadcast(x, depth).shape + (6,)``, Voigt order
+            xx yy zz yz xz xy with x across the contact and y along it.
+        """
+        return hertz_line_stress(x, depth, half_width=self.half_width, max_pressure=self.max_pressure,
+                                 poisson=poisson)
