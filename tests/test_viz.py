@@ -110,6 +110,21 @@ def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, export
                                (meshes.corner_average(heights) - result.approach[STEP]).ravel(order="F"))
 
 
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
+def test_exported_files_honour_the_umask(result, tmp_path, umask):
+    """Shared folders: every file gets 0o666 less the umask, like the pictures (not mkstemp's 0600)."""
+    previous = os.umask(umask)
+    try:
+        exporter = export(result, tmp_path, steps=[0, 1])
+        render(result, tmp_path / "map.png", step=0)
+    finally:
+        os.umask(previous)
+    names = sorted(os.listdir(tmp_path))
+    assert {os.path.basename(f) for f in exporter.files} | {"map.png"} == set(names)
+    assert {name: oct(os.stat(tmp_path / name).st_mode & 0o777) for name in names} == \
+        {name: oct(0o666 & ~umask) for name in names}
+
+
 def test_cells_are_well_oriented(exported):
     _, folder = exported
     volume = pv.read(os.path.join(folder, "volume_0000.vtu")).compute_cell_sizes()
