@@ -89,14 +89,18 @@ def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, export
     stress = result.stress(STEP)
     zz = meshes.grid_order(volume.cell_data["stress_zz"][0], (n1, n2, n3))
     np.testing.assert_allclose(zz, stress[..., 2], rtol=1e-12, atol=1e-12 * np.abs(stress).max())
-    voigt = meshes.grid_order(volume.cell_data["stress"][0], (n1, n2, n3))
-    np.testing.assert_allclose(voigt, stress * [1, 1, 1, -1, -1, 1], rtol=1e-12, atol=1e-12 * np.abs(stress).max())
+    # VTK's tensor order xx yy zz xy yz xz, z up: xy = sigma_12, yz = -sigma_23, xz = -sigma_13
+    tensor = meshes.grid_order(volume.cell_data["stress"][0], (n1, n2, n3))
+    np.testing.assert_allclose(tensor, stress[..., [0, 1, 2, 5, 3, 4]] * [1, 1, 1, 1, -1, -1], rtol=1e-12,
+                               atol=1e-12 * np.abs(stress).max())
+    for c, name in enumerate(("xx", "yy", "zz", "xy", "yz", "xz")):
+        np.testing.assert_array_equal(volume.cell_data["stress_" + name][0], volume.cell_data["stress"][0][:, c])
     np.testing.assert_allclose(meshes.grid_order(volume.cell_data["von_mises"][0], (n1, n2, n3)),
                                result.von_mises(STEP), rtol=1e-12)
     principal = volume.cell_data["principal_stress"][0]
     assert principal.shape == (n1 * n2 * n3, 3) and np.all(np.diff(principal, axis=1) <= 0)
     np.testing.assert_allclose(volume.cell_data["tresca"][0], principal[:, 0] - principal[:, 2], rtol=1e-12)
-    np.testing.assert_allclose(principal.sum(axis=1), voigt[..., :3].sum(axis=-1).transpose(2, 1, 0).ravel(),
+    np.testing.assert_allclose(principal.sum(axis=1), tensor[..., :3].sum(axis=-1).transpose(2, 1, 0).ravel(),
                                atol=1e-8 * np.abs(stress).max())
     centres = meshes.grid_order(_centres(volume), (n1, n2, n3))
     np.testing.assert_allclose(centres[..., 2], -np.broadcast_to(grid.x3, (n1, n2, n3)), atol=1e-15)
@@ -108,6 +112,49 @@ def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, export
     np.testing.assert_allclose(meshes.grid_order(indenter.cell_data["height"][0], grid.shape), heights)
     np.testing.assert_allclose(indenter.points[:, 2],
                                (meshes.corner_average(heights) - result.approach[STEP]).ravel(order="F"))
+
+
+def _vtk_principal(mesh):
+    """VTK's own principal values (largest first) and directions of the cell tensor ``stress``."""
+    from vtkmodules.vtkFiltersTensor import vtkTensorPrincipalInvariants
+    invariants = vtkTensorPrincipalInvariants()
+    invariants.SetInputData(mesh)
+    invariants.SetInputArrayToProcess(0, 0, 0, 1, "stress")  # port 0, connection 0, cell data
+    invariants.Update()
+    out = pv.wrap(invariants.GetOutput())
+    values = np.column_stack([out.cell_data[f"stress - Sigma {i}"] for i in (1, 2, 3)])
+    directions = np.stack([out.cell_data[f"stress - Sigma {i} (Vector)"] for i in (1, 2, 3)], axis=1)
+    return values, directions
+
+
+def test_vtk_reads_the_exported_stress_tensor(exported):
+    """ParaView's tensor filters read `stress` as XX YY ZZ XY YZ XZ: their principal stresses must be ours."""
+    _, folder = exported
+    volume = pv.read(os.path.join(folder, f"volume_{STEP:04d}.vtu"))
+    values, _ = _vtk_principal(volume)
+    ours = np.asarray(volume.cell_data["principal_stress"])
+    scale = np.abs(ours).max(axis=1, keepdims=True)
+    assert scale.min() > 0
+    np.testing.assert_allclose(values / scale, ours / scale, rtol=0, atol=1e-10)
+
+
+def test_vtk_reads_a_tensor_of_known_principal_stresses(result):
+    """Rotated diagonal tensors, one per cell: VTK finds the eigenvalues and (frame z up) the eigenvectors."""
+    n1, n2, n3 = result.grid.shape + (result.grid.layers,)
+    rng = np.random.default_rng(7)
+    eigenvalues = -np.sort(-rng.uniform(-3e8, 1e8, (n1, n2, n3, 3)), axis=-1)  # [Pa], descending
+    rotations, _ = np.linalg.qr(rng.normal(size=(n1, n2, n3, 3, 3)))
+    full = np.einsum("...ij,...j,...kj->...ik", rotations, eigenvalues, rotations)  # R diag R^T, x3 down
+    voigt = full[..., [0, 1, 2, 1, 0, 0], [0, 1, 2, 2, 2, 1]]  # xx yy zz yz xz xy
+    volume = meshes.volume_mesh(result, 0, stress=voigt)
+    values, directions = _vtk_principal(volume)
+    flat = meshes.cell_order(eigenvalues, 3)
+    np.testing.assert_allclose(values, flat, rtol=0, atol=1e-10 * 3e8)
+    np.testing.assert_allclose(volume.cell_data["principal_stress"], flat, rtol=0, atol=1e-10 * 3e8)
+    # eigenvector of the largest value in the exported frame: (v1, v2, -v3), up to its sign
+    expected = meshes.cell_order(rotations[..., :, 0], 3) * [1, 1, -1]
+    cosine = np.abs(np.sum(directions[:, 0] * expected, axis=1)) / np.linalg.norm(directions[:, 0], axis=1)
+    np.testing.assert_allclose(cosine, 1.0, atol=1e-8)
 
 
 @pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])

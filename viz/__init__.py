@@ -17,7 +17,8 @@ when a function needs them (``pip install 'viscocontact[viz]'``).
   cell numbering and stress frame conventions.
 
 Geometry: z points UP out of the solid (the solid is ``z <= 0``), layer
-centres at ``z = -x3``, the deformed surface at ``z = -u3``; SI units.
+centres at ``z = -x3``, the deformed surface at ``z = -u3``; SI units. Tensors
+in the files are in VTK's order ``XX YY ZZ XY YZ XZ`` (see :mod:`viz.meshes`).
 """
 from .export import Exporter, export
 from .plot import plot_history

@@ -10,6 +10,12 @@ Layout of the output folder (``NNNN`` is the step index, zero padded to 4 digits
 Open a ``.pvd`` in ParaView: its time steps carry the PHYSICAL time [s] of each
 step. The z axis points up, the solid occupies ``z <= 0`` (see
 :mod:`viz.meshes` for the geometry, the cell numbering and the stress frame).
+The surface is written undeformed: Warp By Vector ``displacement_vector``
+(scale factor 1) shows the deformed surface. The 6-component ``stress`` (and
+``eigenstrain``) is a symmetric tensor in VTK's order ``XX YY ZZ XY YZ XZ``,
+which ParaView's tensor filters expect (the framework's
+:meth:`~framework.Result.stress` is in Voigt order ``xx yy zz yz xz xy``); the
+components are also written one by one (``stress_xx`` ...).
 
 Every VTU file carries the field data ``framework_version`` and
 ``configuration`` (JSON of ``result.configuration()``), both UTF-8 text stored

@@ -17,6 +17,11 @@ Stress components are given in the exported frame ``(x, y, z) = (x1, x2, -x3)``:
 ``xx``, ``yy``, ``zz`` and ``xy`` equal the framework's components, while
 ``yz = -sigma_23`` and ``xz = -sigma_13`` (the framework's x3 points down).
 Invariants, principal stresses, von Mises and Tresca do not depend on this.
+
+Tensor order: 6-component symmetric tensors (``stress``, ``eigenstrain``) are
+written in VTK's order ``XX YY ZZ XY YZ XZ`` (:data:`TENSOR_ORDER`), the order
+ParaView and VTK's tensor filters read, NOT the framework's Voigt order ``xx yy
+zz yz xz xy`` of :meth:`framework.Result.stress`; :func:`vtk_tensor` converts.
 """
 import json
 
@@ -30,11 +35,35 @@ from . import _deps
 VTK_QUAD = 9
 VTK_HEXAHEDRON = 12
 
-#: Names of the six stress components in Voigt order (exported frame, z up).
-STRESS_COMPONENTS = ("stress_xx", "stress_yy", "stress_zz", "stress_yz", "stress_xz", "stress_xy")
+#: Components of a 6-component symmetric tensor in the files: VTK's order (exported frame, z up).
+TENSOR_ORDER = ("xx", "yy", "zz", "xy", "yz", "xz")
 
-#: Sign that takes a framework Voigt vector (x3 down) to the exported frame (z up).
-FRAME_SIGN = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
+#: Names of the per-component stress arrays, in :data:`TENSOR_ORDER`.
+STRESS_COMPONENTS = tuple("stress_" + c for c in TENSOR_ORDER)
+
+#: Framework Voigt index (``xx yy zz yz xz xy``, x3 down) of each component of :data:`TENSOR_ORDER`.
+VOIGT_INDEX = (0, 1, 2, 5, 3, 4)
+
+#: Sign of each component of :data:`TENSOR_ORDER` going from x3 down to z up (``yz`` and ``xz`` flip).
+FRAME_SIGN = np.array([1.0, 1.0, 1.0, 1.0, -1.0, -1.0])
+
+
+def vtk_tensor(voigt):
+    """Framework Voigt tensors to the exported ones: VTK order ``XX YY ZZ XY YZ XZ``, frame z up.
+
+    Parameters
+    ----------
+    voigt : array_like
+        ``(..., 6)`` components ``xx yy zz yz xz xy`` in the framework's frame
+        (x3 pointing down), e.g. :meth:`framework.Result.stress` [Pa].
+
+    Returns
+    -------
+    ndarray
+        ``(..., 6)`` components ``xx yy zz xy yz xz`` in the frame
+        ``(x1, x2, -x3)``, as written to the files (:data:`TENSOR_ORDER`).
+    """
+    return np.asarray(voigt, dtype=float)[..., list(VOIGT_INDEX)] * FRAME_SIGN
 
 
 def step_index(result, step):
@@ -145,7 +174,8 @@ def stress_measures(stress):
     Parameters
     ----------
     stress : ndarray
-        Voigt ``xx yy zz yz xz xy`` [Pa].
+        Voigt ``xx yy zz yz xz xy`` [Pa], the framework's order (either
+        frame: the measures do not change when ``yz`` and ``xz`` flip sign).
 
     Returns
     -------
@@ -303,16 +333,21 @@ def volume_mesh(result, step, stress=None):
     Cell data (each cell holds the value at its centre, ``z = -x3``), in the
     exported frame (see the module docstring for the shear signs):
 
-    * ``stress_xx`` ... ``stress_xy`` [Pa], and ``stress`` the same six as one
-      6-component array in Voigt order ``xx yy zz yz xz xy``;
+    * ``stress_xx``, ``stress_yy``, ``stress_zz``, ``stress_xy``,
+      ``stress_yz``, ``stress_xz`` [Pa], and ``stress`` the same six as one
+      6-component symmetric tensor in VTK's order ``XX YY ZZ XY YZ XZ``
+      (:data:`TENSOR_ORDER`; not the framework's Voigt order), so that
+      ParaView's tensor filters read it right;
     * ``von_mises`` [Pa]; ``tresca`` [Pa], the largest principal difference;
     * ``principal_stress`` [Pa], 3 components sorted descending.
 
     Reserved names, written when the result provides them (methods
-    ``eigenstrain(step)`` -> ``(n1, n2, layers, 6)`` Voigt strains, and
+    ``eigenstrain(step)`` -> ``(n1, n2, layers, 6)`` strains in the
+    framework's Voigt order with tensor shears ``eps_23`` (not engineering
+    shears ``2 eps_23``: ParaView reads a tensor), and
     ``inhomogeneity(step)`` -> ``(n1, n2, layers)`` integer indicator, 0 in
-    the matrix): ``eigenstrain`` (6 components, same frame and order as
-    ``stress``) and ``inhomogeneity`` (int32).
+    the matrix): ``eigenstrain`` (6 tensor components, converted like the
+    stress: same frame and VTK order as ``stress``) and ``inhomogeneity`` (int32).
 
     Parameters
     ----------
@@ -330,15 +365,15 @@ def volume_mesh(result, step, stress=None):
     """
     k = step_index(result, step)
     mesh = hexahedron_mesh(result.grid)
-    stress = np.asarray(result.stress(k) if stress is None else stress, dtype=float) * FRAME_SIGN
-    flat = _cell_order(stress, 3)
+    voigt = _cell_order(np.asarray(result.stress(k) if stress is None else stress, dtype=float), 3)
+    tensor = vtk_tensor(voigt)
     for c, name in enumerate(STRESS_COMPONENTS):
-        mesh.cell_data[name] = np.ascontiguousarray(flat[:, c])
-    mesh.cell_data["stress"] = np.ascontiguousarray(flat)
-    for name, value in stress_measures(flat).items():
+        mesh.cell_data[name] = np.ascontiguousarray(tensor[:, c])
+    mesh.cell_data["stress"] = np.ascontiguousarray(tensor)
+    for name, value in stress_measures(voigt).items():
         mesh.cell_data[name] = value
     if callable(getattr(result, "eigenstrain", None)):
-        mesh.cell_data["eigenstrain"] = _cell_order(np.asarray(result.eigenstrain(k), dtype=float) * FRAME_SIGN, 3)
+        mesh.cell_data["eigenstrain"] = vtk_tensor(_cell_order(np.asarray(result.eigenstrain(k), dtype=float), 3))
     if callable(getattr(result, "inhomogeneity", None)):
         mesh.cell_data["inhomogeneity"] = _cell_order(np.asarray(result.inhomogeneity(k)).astype(np.int32), 3)
     mesh.set_active_scalars("von_mises", preference="cell")

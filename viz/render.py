@@ -149,9 +149,9 @@ def _surface_field(result, k, field):
 
 
 def _volume_field(result, k, field):
-    stress = np.asarray(result.stress(k), dtype=float) * meshes.FRAME_SIGN
+    stress = np.asarray(result.stress(k), dtype=float)
     if field in meshes.STRESS_COMPONENTS:
-        return stress[..., meshes.STRESS_COMPONENTS.index(field)]
+        return meshes.vtk_tensor(stress)[..., meshes.STRESS_COMPONENTS.index(field)]
     measures = meshes.stress_measures(stress)
     if field.startswith("principal_"):
         return measures["principal_stress"][..., int(field[-1]) - 1]
