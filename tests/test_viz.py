@@ -79,10 +79,12 @@ def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, export
     centres = meshes.grid_order(_centres(surface)[:, :2], grid.shape)
     np.testing.assert_allclose(centres[..., 0], x1, atol=1e-15)
     np.testing.assert_allclose(centres[..., 1], x2, atol=1e-15)
-    # the deformed surface at z = -u3 averaged to the corners; `warp` leads back to z = 0
+    # the undeformed surface z = 0; `displacement_vector` leads to the deformed one, z = -u3 at the corners
     corners = meshes.corner_average(result.displacement(STEP))
-    np.testing.assert_allclose(surface.points[:, 2], -corners.ravel(order="F"), rtol=1e-12)
-    np.testing.assert_allclose((surface.points - surface.point_data["warp"])[:, 2], 0.0, atol=1e-18)
+    assert np.all(surface.points[:, 2] == 0.0)
+    warped = surface.points + surface.point_data["displacement_vector"]
+    np.testing.assert_allclose(warped[:, 2], -corners.ravel(order="F"), rtol=1e-12)
+    np.testing.assert_array_equal(warped[:, :2], surface.points[:, :2])
 
     volume = meshio.read(os.path.join(folder, f"volume_{STEP:04d}.vtu"))
     assert [(c.type, len(c.data)) for c in volume.cells] == [("hexahedron", n1 * n2 * n3)]
@@ -155,6 +157,21 @@ def test_vtk_reads_a_tensor_of_known_principal_stresses(result):
     expected = meshes.cell_order(rotations[..., :, 0], 3) * [1, 1, -1]
     cosine = np.abs(np.sum(directions[:, 0] * expected, axis=1)) / np.linalg.norm(directions[:, 0], axis=1)
     np.testing.assert_allclose(cosine, 1.0, atol=1e-8)
+
+
+def test_warped_surface_meets_the_indenter(result, exported):
+    """Warp By Vector (scale 1) takes the undeformed surface onto the indenter where all four cells touch."""
+    _, folder = exported
+    surface = pv.read(os.path.join(folder, f"surface_{STEP:04d}.vtu"))
+    indenter = pv.read(os.path.join(folder, f"indenter_{STEP:04d}.vtu"))
+    assert surface.active_vectors_name == "displacement_vector"
+    warped = surface.warp_by_vector("displacement_vector", factor=1.0)
+    contact = np.pad(result.pressure(STEP) > 0, 1)
+    touching = (contact[:-1, :-1] & contact[1:, :-1] & contact[:-1, 1:] & contact[1:, 1:]).ravel(order="F")
+    assert touching.sum() >= 4
+    np.testing.assert_allclose(warped.points[touching, 2], indenter.points[touching, 2], rtol=0,
+                               atol=1e-8 * np.abs(result.displacement(STEP)).max())  # the solver tolerance
+    assert np.all(warped.points[~touching, 2] <= indenter.points[~touching, 2] + 1e-12)  # the ball is above
 
 
 @pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])

@@ -2,7 +2,7 @@
 
 Layout of the output folder (``NNNN`` is the step index, zero padded to 4 digits)::
 
-    surface.pvd   surface_NNNN.vtu    deformed surface, quads (see viz.meshes.surface_mesh)
+    surface.pvd   surface_NNNN.vtu    undeformed surface + displacement vector, quads
     volume.pvd    volume_NNNN.vtu     subsurface stresses, hexahedra (only with layers)
     indenter.pvd  indenter_NNNN.vtu   the indenter's surface at its position, quads
     configuration.json                result.configuration() with the framework version

@@ -1,8 +1,10 @@
-"""VTK meshes of a result: the deformed surface, the subsurface layers, the indenter.
+"""VTK meshes of a result: the surface, the subsurface layers, the indenter.
 
 Geometry (the ParaView convention): ``x = x1``, ``y = x2`` and ``z`` pointing UP
 out of the solid, so the solid occupies ``z <= 0``, the layer centres lie at
-``z = -x3`` and the deformed surface at ``z = -u3``. Lengths in metres.
+``z = -x3`` and the deformed surface at ``z = -u3``. Lengths in metres. The
+surface and volume meshes are undeformed; the surface carries the point vector
+``displacement_vector`` ``(0, 0, -u3)`` for ParaView's Warp By Vector.
 
 Ordering: points and cells are numbered like a VTK structured grid, x1 fastest,
 then x2, then (for the volume) the layers from the surface down:
@@ -284,19 +286,22 @@ def hexahedron_mesh(grid):
 
 
 def surface_mesh(result, step):
-    """The deformed surface of one step.
+    """The surface of one step: the undeformed plane with the displacement as a point vector.
 
-    Points: the ``(n1 + 1) x (n2 + 1)`` cell corners at the deformed position
-    ``z = -u3`` (true scale), ``u3`` averaged over the adjacent cells
-    (:func:`corner_average`, wrapping on periodic axes).
+    Points: the ``(n1 + 1) x (n2 + 1)`` cell corners on the undeformed
+    surface ``z = 0``.
 
-    Point data: ``warp`` [m], the vector ``(0, 0, -u3)`` from the undeformed
-    position (``z = 0``) to the point; the undeformed surface is
-    ``points - warp`` (ParaView: Warp By Vector ``warp`` with scale factor -1;
-    scale factor ``s - 1`` exaggerates the deformation ``s`` times).
+    Point data: ``displacement_vector`` [m], the active vectors, ``(0, 0,
+    -u3)`` (z up) with ``u3`` averaged over the cells around each corner
+    (:func:`corner_average`, wrapping on periodic axes). ParaView's Warp By
+    Vector with scale factor 1 moves the points to the deformed surface
+    ``z = -u3``, where it meets the indenter in the contact (see
+    :func:`indenter_mesh`); scale factor ``s`` exaggerates the deformation
+    ``s`` times.
 
-    Cell data: ``pressure`` [Pa], ``displacement`` (u3 [m], positive into the
-    solid), ``gap`` [m], ``contact`` (int32, 1 where the pressure is > 0).
+    Cell data: ``pressure`` [Pa], ``displacement`` (the scalar u3 [m],
+    positive into the solid), ``gap`` [m], ``contact`` (int32, 1 where the
+    pressure is > 0).
 
     Parameters
     ----------
@@ -314,10 +319,11 @@ def surface_mesh(result, step):
     grid = result.grid
     u3 = np.asarray(result.displacement(k), dtype=float)
     u3_corner = corner_average(u3, grid.periodic)
-    mesh = quad_mesh(grid, -u3_corner)
-    warp = np.zeros((u3_corner.size, 3))
-    warp[:, 2] = -u3_corner.ravel(order="F")
-    mesh.point_data["warp"] = warp
+    mesh = quad_mesh(grid, np.zeros_like(u3_corner))
+    vector = np.zeros((u3_corner.size, 3))
+    vector[:, 2] = -u3_corner.ravel(order="F")
+    mesh.point_data["displacement_vector"] = vector
+    mesh.set_active_vectors("displacement_vector", preference="point")
     pressure = np.asarray(result.pressure(k), dtype=float)
     mesh.cell_data["pressure"] = cell_order(pressure)
     mesh.cell_data["displacement"] = cell_order(u3)
@@ -386,7 +392,8 @@ def indenter_mesh(result, step):
     Points: the cell corners at ``z = h - approach`` (``h`` from
     ``indenter.on_grid`` averaged to the corners like the surface), so that
     the indenter and the deformed surface coincide where every adjacent cell
-    is in contact. Heights are written as given: the vertical walls of flat
+    is in contact (the surface warped by its ``displacement_vector`` with
+    scale factor 1). Heights are written as given: the vertical walls of flat
     punches (:data:`framework.indenters.WALL` times the grid side) show up as
     steep one-cell ramps. The tilt of an eccentrically loaded indenter is
     drawn: ``z = h - (approach + alpha1 x1 + alpha2 x2)`` with ``alpha = tan(tilt)``.
