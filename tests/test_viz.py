@@ -341,3 +341,91 @@ def test_indenter_mesh_carries_the_tilt():
     expected = -(result.approach[0] + slopes[0] * points[face, 0] + slopes[1] * points[face, 1])
     assert np.allclose(points[face, 2], expected, rtol=0, atol=1e-12)
     assert slopes[0] > 0 and slopes[1] < 0
+
+
+def test_colour_limits_snap_round_off_and_centre_signed_fields():
+    """Round-off ends (below 1e-6 of the range) print as 0; a field of both signs gets symmetric limits."""
+    from viz.render import colour_limits, nice_ticks
+    assert colour_limits(-7.62e-15, 5.2e-5) == (0.0, 5.2e-5)  # a gap: -7.6e-15 m is round-off
+    assert colour_limits(-2.17e9, -1.6e3) == (-2.17e9, 0.0)  # sigma_zz outside the contact
+    assert colour_limits(-2.17e9, -2.2e3) == (-2.17e9, -2.2e3)  # 1.01e-6 of the range: kept
+    assert colour_limits(-3.0, 5.0) == (-5.0, 5.0)
+    assert colour_limits(2.0, 5.0) == (2.0, 5.0)
+    values, decimals = nice_ticks(0.0, 92.2, 7)
+    assert values.tolist() == [0, 20, 40, 60, 80] and decimals == 0
+    values, decimals = nice_ticks(-0.25, 0.25, 7)  # step 0.05 would give 11 ticks
+    assert values.tolist() == pytest.approx([-0.2, -0.1, 0.0, 0.1, 0.2]) and decimals == 1
+    values, decimals = nice_ticks(0.0, 1.3, 7)
+    assert values.tolist() == pytest.approx([0.0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2]) and decimals == 1
+
+
+def test_signed_fields_get_a_diverging_map_centred_on_zero(result, tmp_path):
+    middle = result.grid.shape[1] // 2  # the cells holding the plane x2 = 0
+    shear = -result.stress(STEP)[:, middle, :, 4]  # sigma_xz, z up
+    picture = render(result, tmp_path / "xz.png", "stress_xz", STEP, kind="slice")
+    assert shear.min() < 0 < shear.max() and picture.scalar_range == (shear.min(), shear.max())
+    top = np.abs(shear).max()
+    assert picture.cmap == "coolwarm" and picture.clim == (-top, top)
+    assert picture.bar_title == "shear stress xz [MPa]" and picture.display_unit == "MPa"
+    ticks = [float(label) for label in picture.bar_labels]
+    assert 0.0 in ticks and ticks == [-t for t in reversed(ticks)]
+    mises = render(result, tmp_path / "mises.png", "von_mises", STEP, kind="slice")
+    assert mises.cmap == "viridis" and mises.clim == mises.scalar_range
+    assert mises.bar_title == "von Mises stress [MPa]"
+    assert render(result, tmp_path / "own.png", "stress_xz", STEP, kind="slice", cmap="magma").cmap == "magma"
+    assert render(result, tmp_path / "fixed.png", "stress_xz", STEP, kind="slice", clim=(-1e6, 3e7)).cmap == "viridis"
+
+
+def test_round_off_limits_print_as_zero(result, tmp_path):
+    """The gap is -4e-14 m somewhere in the contact: round-off, so the bar starts at a plain 0."""
+    gap = result.gap(STEP)
+    assert -1e-9 * gap.max() < gap.min() < 0
+    picture = render(result, tmp_path / "gap.png", "gap", STEP)
+    assert picture.scalar_range[0] == gap.min() and picture.clim == (0.0, gap.max())
+    assert picture.cmap == "viridis" and picture.bar_title == "gap [\u00b5m]"
+    assert picture.bar_labels[0] == "0" and not any("e" in label for label in picture.bar_labels)
+
+
+def _apart(boxes):
+    """No two label boxes (x0, y0, x1, y1) overlap."""
+    return all(a[2] <= b[0] or b[2] <= a[0] or a[3] <= b[1] or b[3] <= a[1]
+               for i, a in enumerate(boxes) for b in boxes[i + 1:])
+
+
+def test_tick_labels_never_overlap(result, tmp_path):
+    """Square map, slice, 3-D views and an 8:1 strip 0.5 mm wide: labels apart, round, enough of them."""
+    strip = Simulation(grid=Grid(shape=(64, 8), size=(4e-3, 0.5e-3), depth=0.25e-3, layers=4),
+                       material=materials.Elastic(young=2e9, poisson=0.35),
+                       indenter=indenters.Sphere(radius=5e-3), schedule=schedules.Static(load=[2.0])).run()
+    pictures = [render(result, tmp_path / "map.png", "pressure", STEP),
+                render(result, tmp_path / "slice.png", "von_mises", STEP, kind="slice"),
+                render(result, tmp_path / "surface.png", "displacement", STEP, kind="surface"),
+                render(result, tmp_path / "clip.png", "tresca", STEP, kind="slice", clip=True),
+                render(strip, tmp_path / "strip.png", "pressure", 0),
+                render(strip, tmp_path / "strip_slice.png", "stress_yz", 0, kind="slice", plane="x1")]
+    for picture in pictures:
+        assert _apart(picture.label_boxes), picture.path
+        assert len(picture.label_boxes) == sum(len(v) for v in picture.axis_labels.values())
+        for title, labels in picture.axis_labels.items():
+            assert len(labels) >= 2 and len(set(labels)) == len(labels), (picture.path, title, labels)
+            assert all(len(label.split(".")[-1]) <= 2 for label in labels)
+    square, strip_map = pictures[0], pictures[4]
+    assert set(square.axis_labels["x1 [mm]"]) >= {"-0.4", "0.0", "0.4"}
+    # the strip's 0.5 mm side is 100 pixels tall: three labels, not eight piled up
+    assert strip_map.axis_labels["x2 [mm]"] == ("-0.2", "0.0", "0.2")
+    assert strip_map.axis_labels["x1 [mm]"] == ("-2", "-1", "0", "1", "2")
+
+
+def test_history_plot_uses_readable_units(result, tmp_path):
+    """Radius in um, pressure in MPa (no x1e-4 offsets); the load centre's 1e-14 m round-off plots flat."""
+    import matplotlib
+    assert np.abs(result.center).max() < 1e-12  # the demo is symmetric
+    with matplotlib.rc_context({"svg.fonttype": "none"}):  # text stays text in the SVG
+        path = plot_history(result, tmp_path / "history.svg", ["contact_radius", "max_pressure", "center"])
+    root = ET.parse(path).getroot()
+    texts = [" ".join("".join(node.itertext()).split()) for node in root.iter() if node.tag.endswith("text")]
+    texts = [t if "[" in t else t.replace(" ", "") for t in texts]  # tick labels come as one glyph a line
+    assert "contact radius [\u00b5m]" in texts and "max pressure [MPa]" in texts and "load centre [\u00b5m]" in texts
+    assert not any("10^" in t or "\u00d710" in t or "e-" in t for t in texts), texts
+    centre_ticks = [t for t in texts if t.lstrip("\u2212-").replace(".", "").isdigit()]
+    assert any(t.startswith(("\u2212", "-")) and float(t.lstrip("\u2212-")) >= 5 for t in centre_ticks)
