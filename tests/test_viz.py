@@ -164,7 +164,8 @@ def test_warped_surface_meets_the_indenter(result, exported):
     _, folder = exported
     surface = pv.read(os.path.join(folder, f"surface_{STEP:04d}.vtu"))
     indenter = pv.read(os.path.join(folder, f"indenter_{STEP:04d}.vtu"))
-    assert surface.active_vectors_name == "displacement_vector"
+    assert surface.active_vectors_name == "displacement_vector"  # what Warp By Vector offers first
+    assert surface.GetPointData().GetScalars() is None and surface.active_scalars_name == "pressure"
     warped = surface.warp_by_vector("displacement_vector", factor=1.0)
     contact = np.pad(result.pressure(STEP) > 0, 1)
     touching = (contact[:-1, :-1] & contact[1:, :-1] & contact[:-1, 1:] & contact[1:, 1:]).ravel(order="F")

@@ -324,6 +324,7 @@ def surface_mesh(result, step):
     vector[:, 2] = -u3_corner.ravel(order="F")
     mesh.point_data["displacement_vector"] = vector
     mesh.set_active_vectors("displacement_vector", preference="point")
+    mesh.GetPointData().SetActiveScalars(None)  # else ParaView colours by the vector's magnitude, not the pressure
     pressure = np.asarray(result.pressure(k), dtype=float)
     mesh.cell_data["pressure"] = cell_order(pressure)
     mesh.cell_data["displacement"] = cell_order(u3)
