@@ -494,8 +494,8 @@ class _Overlay:
             prop.SetFontFile(font)
         else:
             prop.SetFontFamilyToArial()
-        prop.SetJustificationToLeft() if left else prop.SetJustificationToCentered()
-        prop.SetVerticalJustificationToTop() if top else prop.SetVerticalJustificationToCentered()
+        prop.SetJustification(0 if left else 1)  # VTK_TEXT_LEFT, VTK_TEXT_CENTERED
+        prop.SetVerticalJustification(2 if top else 1)  # VTK_TEXT_TOP, VTK_TEXT_CENTERED
         return prop
 
     def _size(self, text, prop):
@@ -512,15 +512,15 @@ class _Overlay:
 
     def _lines(self, segments, width=1.2):
         """Straight lines ``[(start, end), ...]`` in window pixels."""
-        vtk = _deps.require("vtkmodules.vtkRenderingCore")
+        vtk_core = _deps.require("vtkmodules.vtkRenderingCore")
         pv = _deps.pyvista(rendering=True)
         points = np.array([[x, y, 0.0] for segment in segments for x, y in segment])
         poly = pv.PolyData(points, lines=np.column_stack([np.full(len(segments), 2),
                                                           np.arange(0, 2 * len(segments), 2),
                                                           np.arange(1, 2 * len(segments), 2)]).ravel())
-        mapper = vtk.vtkPolyDataMapper2D()
+        mapper = vtk_core.vtkPolyDataMapper2D()
         mapper.SetInputData(poly)
-        actor = vtk.vtkActor2D()
+        actor = vtk_core.vtkActor2D()
         actor.SetMapper(mapper)
         actor.GetProperty().SetColor(0.0, 0.0, 0.0)
         actor.GetProperty().SetLineWidth(width)
