@@ -79,24 +79,30 @@ def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, export
     centres = meshes.grid_order(_centres(surface)[:, :2], grid.shape)
     np.testing.assert_allclose(centres[..., 0], x1, atol=1e-15)
     np.testing.assert_allclose(centres[..., 1], x2, atol=1e-15)
-    # the deformed surface at z = -u3 averaged to the corners; `warp` leads back to z = 0
+    # the undeformed surface z = 0; `displacement_vector` leads to the deformed one, z = -u3 at the corners
     corners = meshes.corner_average(result.displacement(STEP))
-    np.testing.assert_allclose(surface.points[:, 2], -corners.ravel(order="F"), rtol=1e-12)
-    np.testing.assert_allclose((surface.points - surface.point_data["warp"])[:, 2], 0.0, atol=1e-18)
+    assert np.all(surface.points[:, 2] == 0.0)
+    warped = surface.points + surface.point_data["displacement_vector"]
+    np.testing.assert_allclose(warped[:, 2], -corners.ravel(order="F"), rtol=1e-12)
+    np.testing.assert_array_equal(warped[:, :2], surface.points[:, :2])
 
     volume = meshio.read(os.path.join(folder, f"volume_{STEP:04d}.vtu"))
     assert [(c.type, len(c.data)) for c in volume.cells] == [("hexahedron", n1 * n2 * n3)]
     stress = result.stress(STEP)
     zz = meshes.grid_order(volume.cell_data["stress_zz"][0], (n1, n2, n3))
     np.testing.assert_allclose(zz, stress[..., 2], rtol=1e-12, atol=1e-12 * np.abs(stress).max())
-    voigt = meshes.grid_order(volume.cell_data["stress"][0], (n1, n2, n3))
-    np.testing.assert_allclose(voigt, stress * [1, 1, 1, -1, -1, 1], rtol=1e-12, atol=1e-12 * np.abs(stress).max())
+    # VTK's tensor order xx yy zz xy yz xz, z up: xy = sigma_12, yz = -sigma_23, xz = -sigma_13
+    tensor = meshes.grid_order(volume.cell_data["stress"][0], (n1, n2, n3))
+    np.testing.assert_allclose(tensor, stress[..., [0, 1, 2, 5, 3, 4]] * [1, 1, 1, 1, -1, -1], rtol=1e-12,
+                               atol=1e-12 * np.abs(stress).max())
+    for c, name in enumerate(("xx", "yy", "zz", "xy", "yz", "xz")):
+        np.testing.assert_array_equal(volume.cell_data["stress_" + name][0], volume.cell_data["stress"][0][:, c])
     np.testing.assert_allclose(meshes.grid_order(volume.cell_data["von_mises"][0], (n1, n2, n3)),
                                result.von_mises(STEP), rtol=1e-12)
     principal = volume.cell_data["principal_stress"][0]
     assert principal.shape == (n1 * n2 * n3, 3) and np.all(np.diff(principal, axis=1) <= 0)
     np.testing.assert_allclose(volume.cell_data["tresca"][0], principal[:, 0] - principal[:, 2], rtol=1e-12)
-    np.testing.assert_allclose(principal.sum(axis=1), voigt[..., :3].sum(axis=-1).transpose(2, 1, 0).ravel(),
+    np.testing.assert_allclose(principal.sum(axis=1), tensor[..., :3].sum(axis=-1).transpose(2, 1, 0).ravel(),
                                atol=1e-8 * np.abs(stress).max())
     centres = meshes.grid_order(_centres(volume), (n1, n2, n3))
     np.testing.assert_allclose(centres[..., 2], -np.broadcast_to(grid.x3, (n1, n2, n3)), atol=1e-15)
@@ -108,6 +114,80 @@ def test_meshio_reads_quads_and_hexahedra_in_the_documented_order(result, export
     np.testing.assert_allclose(meshes.grid_order(indenter.cell_data["height"][0], grid.shape), heights)
     np.testing.assert_allclose(indenter.points[:, 2],
                                (meshes.corner_average(heights) - result.approach[STEP]).ravel(order="F"))
+
+
+def _vtk_principal(mesh):
+    """VTK's own principal values (largest first) and directions of the cell tensor ``stress``."""
+    from vtkmodules.vtkFiltersTensor import vtkTensorPrincipalInvariants
+    invariants = vtkTensorPrincipalInvariants()
+    invariants.SetInputData(mesh)
+    invariants.SetInputArrayToProcess(0, 0, 0, 1, "stress")  # port 0, connection 0, cell data
+    invariants.Update()
+    out = pv.wrap(invariants.GetOutput())
+    values = np.column_stack([out.cell_data[f"stress - Sigma {i}"] for i in (1, 2, 3)])
+    directions = np.stack([out.cell_data[f"stress - Sigma {i} (Vector)"] for i in (1, 2, 3)], axis=1)
+    return values, directions
+
+
+def test_vtk_reads_the_exported_stress_tensor(exported):
+    """ParaView's tensor filters read `stress` as XX YY ZZ XY YZ XZ: their principal stresses must be ours."""
+    _, folder = exported
+    volume = pv.read(os.path.join(folder, f"volume_{STEP:04d}.vtu"))
+    values, _ = _vtk_principal(volume)
+    ours = np.asarray(volume.cell_data["principal_stress"])
+    scale = np.abs(ours).max(axis=1, keepdims=True)
+    assert scale.min() > 0
+    np.testing.assert_allclose(values / scale, ours / scale, rtol=0, atol=1e-10)
+
+
+def test_vtk_reads_a_tensor_of_known_principal_stresses(result):
+    """Rotated diagonal tensors, one per cell: VTK finds the eigenvalues and (frame z up) the eigenvectors."""
+    n1, n2, n3 = result.grid.shape + (result.grid.layers,)
+    rng = np.random.default_rng(7)
+    eigenvalues = -np.sort(-rng.uniform(-3e8, 1e8, (n1, n2, n3, 3)), axis=-1)  # [Pa], descending
+    rotations, _ = np.linalg.qr(rng.normal(size=(n1, n2, n3, 3, 3)))
+    full = np.einsum("...ij,...j,...kj->...ik", rotations, eigenvalues, rotations)  # R diag R^T, x3 down
+    voigt = full[..., [0, 1, 2, 1, 0, 0], [0, 1, 2, 2, 2, 1]]  # xx yy zz yz xz xy
+    volume = meshes.volume_mesh(result, 0, stress=voigt)
+    values, directions = _vtk_principal(volume)
+    flat = meshes.cell_order(eigenvalues, 3)
+    np.testing.assert_allclose(values, flat, rtol=0, atol=1e-10 * 3e8)
+    np.testing.assert_allclose(volume.cell_data["principal_stress"], flat, rtol=0, atol=1e-10 * 3e8)
+    # eigenvector of the largest value in the exported frame: (v1, v2, -v3), up to its sign
+    expected = meshes.cell_order(rotations[..., :, 0], 3) * [1, 1, -1]
+    cosine = np.abs(np.sum(directions[:, 0] * expected, axis=1)) / np.linalg.norm(directions[:, 0], axis=1)
+    np.testing.assert_allclose(cosine, 1.0, atol=1e-8)
+
+
+def test_warped_surface_meets_the_indenter(result, exported):
+    """Warp By Vector (scale 1) takes the undeformed surface onto the indenter where all four cells touch."""
+    _, folder = exported
+    surface = pv.read(os.path.join(folder, f"surface_{STEP:04d}.vtu"))
+    indenter = pv.read(os.path.join(folder, f"indenter_{STEP:04d}.vtu"))
+    assert surface.active_vectors_name == "displacement_vector"  # what Warp By Vector offers first
+    assert surface.GetPointData().GetScalars() is None and surface.active_scalars_name == "pressure"
+    warped = surface.warp_by_vector("displacement_vector", factor=1.0)
+    contact = np.pad(result.pressure(STEP) > 0, 1)
+    touching = (contact[:-1, :-1] & contact[1:, :-1] & contact[:-1, 1:] & contact[1:, 1:]).ravel(order="F")
+    assert touching.sum() >= 4
+    np.testing.assert_allclose(warped.points[touching, 2], indenter.points[touching, 2], rtol=0,
+                               atol=1e-8 * np.abs(result.displacement(STEP)).max())  # the solver tolerance
+    assert np.all(warped.points[~touching, 2] <= indenter.points[~touching, 2] + 1e-12)  # the ball is above
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
+def test_exported_files_honour_the_umask(result, tmp_path, umask):
+    """Shared folders: every file gets 0o666 less the umask, like the pictures (not mkstemp's 0600)."""
+    previous = os.umask(umask)
+    try:
+        exporter = export(result, tmp_path, steps=[0, 1])
+        render(result, tmp_path / "map.png", step=0)
+    finally:
+        os.umask(previous)
+    names = sorted(os.listdir(tmp_path))
+    assert {os.path.basename(f) for f in exporter.files} | {"map.png"} == set(names)
+    assert {name: oct(os.stat(tmp_path / name).st_mode & 0o777) for name in names} == \
+        {name: oct(0o666 & ~umask) for name in names}
 
 
 def test_cells_are_well_oriented(exported):
@@ -262,3 +342,91 @@ def test_indenter_mesh_carries_the_tilt():
     expected = -(result.approach[0] + slopes[0] * points[face, 0] + slopes[1] * points[face, 1])
     assert np.allclose(points[face, 2], expected, rtol=0, atol=1e-12)
     assert slopes[0] > 0 and slopes[1] < 0
+
+
+def test_colour_limits_snap_round_off_and_centre_signed_fields():
+    """Round-off ends (below 1e-6 of the range) print as 0; a field of both signs gets symmetric limits."""
+    from viz.render import colour_limits, nice_ticks
+    assert colour_limits(-7.62e-15, 5.2e-5) == (0.0, 5.2e-5)  # a gap: -7.6e-15 m is round-off
+    assert colour_limits(-2.17e9, -1.6e3) == (-2.17e9, 0.0)  # sigma_zz outside the contact
+    assert colour_limits(-2.17e9, -2.2e3) == (-2.17e9, -2.2e3)  # 1.01e-6 of the range: kept
+    assert colour_limits(-3.0, 5.0) == (-5.0, 5.0)
+    assert colour_limits(2.0, 5.0) == (2.0, 5.0)
+    values, decimals = nice_ticks(0.0, 92.2, 7)
+    assert values.tolist() == [0, 20, 40, 60, 80] and decimals == 0
+    values, decimals = nice_ticks(-0.25, 0.25, 7)  # step 0.05 would give 11 ticks
+    assert values.tolist() == pytest.approx([-0.2, -0.1, 0.0, 0.1, 0.2]) and decimals == 1
+    values, decimals = nice_ticks(0.0, 1.3, 7)
+    assert values.tolist() == pytest.approx([0.0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2]) and decimals == 1
+
+
+def test_signed_fields_get_a_diverging_map_centred_on_zero(result, tmp_path):
+    middle = result.grid.shape[1] // 2  # the cells holding the plane x2 = 0
+    shear = -result.stress(STEP)[:, middle, :, 4]  # sigma_xz, z up
+    picture = render(result, tmp_path / "xz.png", "stress_xz", STEP, kind="slice")
+    assert shear.min() < 0 < shear.max() and picture.scalar_range == (shear.min(), shear.max())
+    top = np.abs(shear).max()
+    assert picture.cmap == "coolwarm" and picture.clim == (-top, top)
+    assert picture.bar_title == "shear stress xz [MPa]" and picture.display_unit == "MPa"
+    ticks = [float(label) for label in picture.bar_labels]
+    assert 0.0 in ticks and ticks == [-t for t in reversed(ticks)]
+    mises = render(result, tmp_path / "mises.png", "von_mises", STEP, kind="slice")
+    assert mises.cmap == "viridis" and mises.clim == mises.scalar_range
+    assert mises.bar_title == "von Mises stress [MPa]"
+    assert render(result, tmp_path / "own.png", "stress_xz", STEP, kind="slice", cmap="magma").cmap == "magma"
+    assert render(result, tmp_path / "fixed.png", "stress_xz", STEP, kind="slice", clim=(-1e6, 3e7)).cmap == "viridis"
+
+
+def test_round_off_limits_print_as_zero(result, tmp_path):
+    """The gap is -4e-14 m somewhere in the contact: round-off, so the bar starts at a plain 0."""
+    gap = result.gap(STEP)
+    assert -1e-9 * gap.max() < gap.min() < 0
+    picture = render(result, tmp_path / "gap.png", "gap", STEP)
+    assert picture.scalar_range[0] == gap.min() and picture.clim == (0.0, gap.max())
+    assert picture.cmap == "viridis" and picture.bar_title == "gap [\u00b5m]"
+    assert picture.bar_labels[0] == "0" and not any("e" in label for label in picture.bar_labels)
+
+
+def _apart(boxes):
+    """No two label boxes (x0, y0, x1, y1) overlap."""
+    return all(a[2] <= b[0] or b[2] <= a[0] or a[3] <= b[1] or b[3] <= a[1]
+               for i, a in enumerate(boxes) for b in boxes[i + 1:])
+
+
+def test_tick_labels_never_overlap(result, tmp_path):
+    """Square map, slice, 3-D views and an 8:1 strip 0.5 mm wide: labels apart, round, enough of them."""
+    strip = Simulation(grid=Grid(shape=(64, 8), size=(4e-3, 0.5e-3), depth=0.25e-3, layers=4),
+                       material=materials.Elastic(young=2e9, poisson=0.35),
+                       indenter=indenters.Sphere(radius=5e-3), schedule=schedules.Static(load=[2.0])).run()
+    pictures = [render(result, tmp_path / "map.png", "pressure", STEP),
+                render(result, tmp_path / "slice.png", "von_mises", STEP, kind="slice"),
+                render(result, tmp_path / "surface.png", "displacement", STEP, kind="surface"),
+                render(result, tmp_path / "clip.png", "tresca", STEP, kind="slice", clip=True),
+                render(strip, tmp_path / "strip.png", "pressure", 0),
+                render(strip, tmp_path / "strip_slice.png", "stress_yz", 0, kind="slice", plane="x1")]
+    for picture in pictures:
+        assert _apart(picture.label_boxes), picture.path
+        assert len(picture.label_boxes) == sum(len(v) for v in picture.axis_labels.values())
+        for title, labels in picture.axis_labels.items():
+            assert len(labels) >= 2 and len(set(labels)) == len(labels), (picture.path, title, labels)
+            assert all(len(label.split(".")[-1]) <= 2 for label in labels)
+    square, strip_map = pictures[0], pictures[4]
+    assert set(square.axis_labels["x1 [mm]"]) >= {"-0.4", "0.0", "0.4"}
+    # the strip's 0.5 mm side is 100 pixels tall: three labels, not eight piled up
+    assert strip_map.axis_labels["x2 [mm]"] == ("-0.2", "0.0", "0.2")
+    assert strip_map.axis_labels["x1 [mm]"] == ("-2", "-1", "0", "1", "2")
+
+
+def test_history_plot_uses_readable_units(result, tmp_path):
+    """Radius in um, pressure in MPa (no x1e-4 offsets); the load centre's 1e-14 m round-off plots flat."""
+    import matplotlib
+    assert np.abs(result.center).max() < 1e-12  # the demo is symmetric
+    with matplotlib.rc_context({"svg.fonttype": "none"}):  # text stays text in the SVG
+        path = plot_history(result, tmp_path / "history.svg", ["contact_radius", "max_pressure", "center"])
+    root = ET.parse(path).getroot()
+    texts = [" ".join("".join(node.itertext()).split()) for node in root.iter() if node.tag.endswith("text")]
+    texts = [t if "[" in t else t.replace(" ", "") for t in texts]  # tick labels come as one glyph a line
+    assert "contact radius [\u00b5m]" in texts and "max pressure [MPa]" in texts and "load centre [\u00b5m]" in texts
+    assert not any("10^" in t or "\u00d710" in t or "e-" in t for t in texts), texts
+    centre_ticks = [t for t in texts if t.lstrip("\u2212-").replace(".", "").isdigit()]
+    assert any(t.startswith(("\u2212", "-")) and float(t.lstrip("\u2212-")) >= 5 for t in centre_ticks)

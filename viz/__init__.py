@@ -5,7 +5,8 @@ none of the optional packages: vtk/pyvista, meshio and matplotlib are imported
 when a function needs them (``pip install 'viscocontact[viz]'``).
 
 * :func:`export` / :class:`Exporter` (:mod:`viz.export`): ParaView files, per
-  step ``surface_NNNN.vtu`` (deformed surface, quads), ``volume_NNNN.vtu``
+  step ``surface_NNNN.vtu`` (the undeformed surface, quads, with the point
+  vector ``displacement_vector`` for Warp By Vector), ``volume_NNNN.vtu``
   (subsurface stresses, hexahedra) and ``indenter_NNNN.vtu``, with
   ``surface.pvd``, ``volume.pvd`` and ``indenter.pvd`` time collections in
   physical time; :class:`Exporter` streams step by step.
@@ -17,7 +18,8 @@ when a function needs them (``pip install 'viscocontact[viz]'``).
   cell numbering and stress frame conventions.
 
 Geometry: z points UP out of the solid (the solid is ``z <= 0``), layer
-centres at ``z = -x3``, the deformed surface at ``z = -u3``; SI units.
+centres at ``z = -x3``, the deformed surface at ``z = -u3``; SI units. Tensors
+in the files are in VTK's order ``XX YY ZZ XY YZ XZ`` (see :mod:`viz.meshes`).
 """
 from .export import Exporter, export
 from .plot import plot_history

@@ -2,7 +2,7 @@
 
 Layout of the output folder (``NNNN`` is the step index, zero padded to 4 digits)::
 
-    surface.pvd   surface_NNNN.vtu    deformed surface, quads (see viz.meshes.surface_mesh)
+    surface.pvd   surface_NNNN.vtu    undeformed surface + displacement vector, quads
     volume.pvd    volume_NNNN.vtu     subsurface stresses, hexahedra (only with layers)
     indenter.pvd  indenter_NNNN.vtu   the indenter's surface at its position, quads
     configuration.json                result.configuration() with the framework version
@@ -10,6 +10,12 @@ Layout of the output folder (``NNNN`` is the step index, zero padded to 4 digits
 Open a ``.pvd`` in ParaView: its time steps carry the PHYSICAL time [s] of each
 step. The z axis points up, the solid occupies ``z <= 0`` (see
 :mod:`viz.meshes` for the geometry, the cell numbering and the stress frame).
+The surface is written undeformed: Warp By Vector ``displacement_vector``
+(scale factor 1) shows the deformed surface. The 6-component ``stress`` (and
+``eigenstrain``) is a symmetric tensor in VTK's order ``XX YY ZZ XY YZ XZ``,
+which ParaView's tensor filters expect (the framework's
+:meth:`~framework.Result.stress` is in Voigt order ``xx yy zz yz xz xy``); the
+components are also written one by one (``stress_xx`` ...).
 
 Every VTU file carries the field data ``framework_version`` and
 ``configuration`` (JSON of ``result.configuration()``), both UTF-8 text stored
@@ -20,11 +26,14 @@ readable by ParaView, pyvista/VTK and meshio.
 
 Each file is written under a temporary name in the same folder and moved into
 place with :func:`os.replace`, and the collections are rewritten after every
-step, so an interrupted run leaves every finished step readable.
+step, so an interrupted run leaves every finished step readable. Every file gets
+the mode ``0o666`` less the umask (0644 with the usual umask 022), like the
+pictures and any file ``open`` creates.
 """
+import contextlib
 import json
 import os
-import tempfile
+import secrets
 import warnings
 from xml.sax.saxutils import quoteattr
 
@@ -37,13 +46,34 @@ from . import _deps, meshes
 COLLECTIONS = ("surface", "volume", "indenter")
 
 
+@contextlib.contextmanager
+def _replacing(path):
+    """Yield a new temporary file name next to ``path``; on success move it onto ``path``.
+
+    The file is created with mode ``0o666`` less the process umask, like any
+    file ``open`` makes (``tempfile.mkstemp`` would give 0600 and the results
+    would be private in a shared folder). Removed if the block fails.
+    """
+    folder = os.path.dirname(os.path.abspath(path))
+    while True:
+        tmp = os.path.join(folder, f".{os.path.basename(path)}.{secrets.token_hex(4)}.tmp")
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            break
+        except FileExistsError:
+            continue
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
 def _write_vtu(mesh, path, compress=True):
     """Write ``mesh`` (a vtkUnstructuredGrid) to ``path`` atomically."""
     vtk_io = _deps.require("vtkmodules.vtkIOXML")
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".", suffix=".tmp")
-    os.close(fd)
-    try:
+    with _replacing(path) as tmp:
         writer = vtk_io.vtkXMLUnstructuredGridWriter()
         writer.SetFileName(tmp)
         writer.SetInputData(mesh)
@@ -56,23 +86,12 @@ def _write_vtu(mesh, path, compress=True):
             writer.SetCompressorTypeToNone()
         if writer.Write() != 1:
             raise OSError(f"VTK could not write {path!r}")
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def _write_text(text, path):
     """Write ``text`` to ``path`` atomically."""
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    with _replacing(path) as tmp, open(tmp, "w", encoding="utf-8") as f:
+        f.write(text)
 
 
 def pvd_text(entries, comment=None):

@@ -1,8 +1,10 @@
-"""VTK meshes of a result: the deformed surface, the subsurface layers, the indenter.
+"""VTK meshes of a result: the surface, the subsurface layers, the indenter.
 
 Geometry (the ParaView convention): ``x = x1``, ``y = x2`` and ``z`` pointing UP
 out of the solid, so the solid occupies ``z <= 0``, the layer centres lie at
-``z = -x3`` and the deformed surface at ``z = -u3``. Lengths in metres.
+``z = -x3`` and the deformed surface at ``z = -u3``. Lengths in metres. The
+surface and volume meshes are undeformed; the surface carries the point vector
+``displacement_vector`` ``(0, 0, -u3)`` for ParaView's Warp By Vector.
 
 Ordering: points and cells are numbered like a VTK structured grid, x1 fastest,
 then x2, then (for the volume) the layers from the surface down:
@@ -17,6 +19,11 @@ Stress components are given in the exported frame ``(x, y, z) = (x1, x2, -x3)``:
 ``xx``, ``yy``, ``zz`` and ``xy`` equal the framework's components, while
 ``yz = -sigma_23`` and ``xz = -sigma_13`` (the framework's x3 points down).
 Invariants, principal stresses, von Mises and Tresca do not depend on this.
+
+Tensor order: 6-component symmetric tensors (``stress``, ``eigenstrain``) are
+written in VTK's order ``XX YY ZZ XY YZ XZ`` (:data:`TENSOR_ORDER`), the order
+ParaView and VTK's tensor filters read, NOT the framework's Voigt order ``xx yy
+zz yz xz xy`` of :meth:`framework.Result.stress`; :func:`vtk_tensor` converts.
 """
 import json
 
@@ -30,11 +37,35 @@ from . import _deps
 VTK_QUAD = 9
 VTK_HEXAHEDRON = 12
 
-#: Names of the six stress components in Voigt order (exported frame, z up).
-STRESS_COMPONENTS = ("stress_xx", "stress_yy", "stress_zz", "stress_yz", "stress_xz", "stress_xy")
+#: Components of a 6-component symmetric tensor in the files: VTK's order (exported frame, z up).
+TENSOR_ORDER = ("xx", "yy", "zz", "xy", "yz", "xz")
 
-#: Sign that takes a framework Voigt vector (x3 down) to the exported frame (z up).
-FRAME_SIGN = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
+#: Names of the per-component stress arrays, in :data:`TENSOR_ORDER`.
+STRESS_COMPONENTS = tuple("stress_" + c for c in TENSOR_ORDER)
+
+#: Framework Voigt index (``xx yy zz yz xz xy``, x3 down) of each component of :data:`TENSOR_ORDER`.
+VOIGT_INDEX = (0, 1, 2, 5, 3, 4)
+
+#: Sign of each component of :data:`TENSOR_ORDER` going from x3 down to z up (``yz`` and ``xz`` flip).
+FRAME_SIGN = np.array([1.0, 1.0, 1.0, 1.0, -1.0, -1.0])
+
+
+def vtk_tensor(voigt):
+    """Framework Voigt tensors to the exported ones: VTK order ``XX YY ZZ XY YZ XZ``, frame z up.
+
+    Parameters
+    ----------
+    voigt : array_like
+        ``(..., 6)`` components ``xx yy zz yz xz xy`` in the framework's frame
+        (x3 pointing down), e.g. :meth:`framework.Result.stress` [Pa].
+
+    Returns
+    -------
+    ndarray
+        ``(..., 6)`` components ``xx yy zz xy yz xz`` in the frame
+        ``(x1, x2, -x3)``, as written to the files (:data:`TENSOR_ORDER`).
+    """
+    return np.asarray(voigt, dtype=float)[..., list(VOIGT_INDEX)] * FRAME_SIGN
 
 
 def step_index(result, step):
@@ -145,7 +176,8 @@ def stress_measures(stress):
     Parameters
     ----------
     stress : ndarray
-        Voigt ``xx yy zz yz xz xy`` [Pa].
+        Voigt ``xx yy zz yz xz xy`` [Pa], the framework's order (either
+        frame: the measures do not change when ``yz`` and ``xz`` flip sign).
 
     Returns
     -------
@@ -254,19 +286,22 @@ def hexahedron_mesh(grid):
 
 
 def surface_mesh(result, step):
-    """The deformed surface of one step.
+    """The surface of one step: the undeformed plane with the displacement as a point vector.
 
-    Points: the ``(n1 + 1) x (n2 + 1)`` cell corners at the deformed position
-    ``z = -u3`` (true scale), ``u3`` averaged over the adjacent cells
-    (:func:`corner_average`, wrapping on periodic axes).
+    Points: the ``(n1 + 1) x (n2 + 1)`` cell corners on the undeformed
+    surface ``z = 0``.
 
-    Point data: ``warp`` [m], the vector ``(0, 0, -u3)`` from the undeformed
-    position (``z = 0``) to the point; the undeformed surface is
-    ``points - warp`` (ParaView: Warp By Vector ``warp`` with scale factor -1;
-    scale factor ``s - 1`` exaggerates the deformation ``s`` times).
+    Point data: ``displacement_vector`` [m], the active vectors, ``(0, 0,
+    -u3)`` (z up) with ``u3`` averaged over the cells around each corner
+    (:func:`corner_average`, wrapping on periodic axes). ParaView's Warp By
+    Vector with scale factor 1 moves the points to the deformed surface
+    ``z = -u3``, where it meets the indenter in the contact (see
+    :func:`indenter_mesh`); scale factor ``s`` exaggerates the deformation
+    ``s`` times.
 
-    Cell data: ``pressure`` [Pa], ``displacement`` (u3 [m], positive into the
-    solid), ``gap`` [m], ``contact`` (int32, 1 where the pressure is > 0).
+    Cell data: ``pressure`` [Pa], ``displacement`` (the scalar u3 [m],
+    positive into the solid), ``gap`` [m], ``contact`` (int32, 1 where the
+    pressure is > 0).
 
     Parameters
     ----------
@@ -284,10 +319,12 @@ def surface_mesh(result, step):
     grid = result.grid
     u3 = np.asarray(result.displacement(k), dtype=float)
     u3_corner = corner_average(u3, grid.periodic)
-    mesh = quad_mesh(grid, -u3_corner)
-    warp = np.zeros((u3_corner.size, 3))
-    warp[:, 2] = -u3_corner.ravel(order="F")
-    mesh.point_data["warp"] = warp
+    mesh = quad_mesh(grid, np.zeros_like(u3_corner))
+    vector = np.zeros((u3_corner.size, 3))
+    vector[:, 2] = -u3_corner.ravel(order="F")
+    mesh.point_data["displacement_vector"] = vector
+    mesh.set_active_vectors("displacement_vector", preference="point")
+    mesh.GetPointData().SetActiveScalars(None)  # else ParaView colours by the vector's magnitude, not the pressure
     pressure = np.asarray(result.pressure(k), dtype=float)
     mesh.cell_data["pressure"] = cell_order(pressure)
     mesh.cell_data["displacement"] = cell_order(u3)
@@ -303,16 +340,21 @@ def volume_mesh(result, step, stress=None):
     Cell data (each cell holds the value at its centre, ``z = -x3``), in the
     exported frame (see the module docstring for the shear signs):
 
-    * ``stress_xx`` ... ``stress_xy`` [Pa], and ``stress`` the same six as one
-      6-component array in Voigt order ``xx yy zz yz xz xy``;
+    * ``stress_xx``, ``stress_yy``, ``stress_zz``, ``stress_xy``,
+      ``stress_yz``, ``stress_xz`` [Pa], and ``stress`` the same six as one
+      6-component symmetric tensor in VTK's order ``XX YY ZZ XY YZ XZ``
+      (:data:`TENSOR_ORDER`; not the framework's Voigt order), so that
+      ParaView's tensor filters read it right;
     * ``von_mises`` [Pa]; ``tresca`` [Pa], the largest principal difference;
     * ``principal_stress`` [Pa], 3 components sorted descending.
 
     Reserved names, written when the result provides them (methods
-    ``eigenstrain(step)`` -> ``(n1, n2, layers, 6)`` Voigt strains, and
+    ``eigenstrain(step)`` -> ``(n1, n2, layers, 6)`` strains in the
+    framework's Voigt order with tensor shears ``eps_23`` (not engineering
+    shears ``2 eps_23``: ParaView reads a tensor), and
     ``inhomogeneity(step)`` -> ``(n1, n2, layers)`` integer indicator, 0 in
-    the matrix): ``eigenstrain`` (6 components, same frame and order as
-    ``stress``) and ``inhomogeneity`` (int32).
+    the matrix): ``eigenstrain`` (6 tensor components, converted like the
+    stress: same frame and VTK order as ``stress``) and ``inhomogeneity`` (int32).
 
     Parameters
     ----------
@@ -330,15 +372,15 @@ def volume_mesh(result, step, stress=None):
     """
     k = step_index(result, step)
     mesh = hexahedron_mesh(result.grid)
-    stress = np.asarray(result.stress(k) if stress is None else stress, dtype=float) * FRAME_SIGN
-    flat = _cell_order(stress, 3)
+    voigt = _cell_order(np.asarray(result.stress(k) if stress is None else stress, dtype=float), 3)
+    tensor = vtk_tensor(voigt)
     for c, name in enumerate(STRESS_COMPONENTS):
-        mesh.cell_data[name] = np.ascontiguousarray(flat[:, c])
-    mesh.cell_data["stress"] = np.ascontiguousarray(flat)
-    for name, value in stress_measures(flat).items():
+        mesh.cell_data[name] = np.ascontiguousarray(tensor[:, c])
+    mesh.cell_data["stress"] = np.ascontiguousarray(tensor)
+    for name, value in stress_measures(voigt).items():
         mesh.cell_data[name] = value
     if callable(getattr(result, "eigenstrain", None)):
-        mesh.cell_data["eigenstrain"] = _cell_order(np.asarray(result.eigenstrain(k), dtype=float) * FRAME_SIGN, 3)
+        mesh.cell_data["eigenstrain"] = vtk_tensor(_cell_order(np.asarray(result.eigenstrain(k), dtype=float), 3))
     if callable(getattr(result, "inhomogeneity", None)):
         mesh.cell_data["inhomogeneity"] = _cell_order(np.asarray(result.inhomogeneity(k)).astype(np.int32), 3)
     mesh.set_active_scalars("von_mises", preference="cell")
@@ -351,7 +393,8 @@ def indenter_mesh(result, step):
     Points: the cell corners at ``z = h - approach`` (``h`` from
     ``indenter.on_grid`` averaged to the corners like the surface), so that
     the indenter and the deformed surface coincide where every adjacent cell
-    is in contact. Heights are written as given: the vertical walls of flat
+    is in contact (the surface warped by its ``displacement_vector`` with
+    scale factor 1). Heights are written as given: the vertical walls of flat
     punches (:data:`framework.indenters.WALL` times the grid side) show up as
     steep one-cell ramps. The tilt of an eccentrically loaded indenter is
     drawn: ``z = h - (approach + alpha1 x1 + alpha2 x2)`` with ``alpha = tan(tilt)``.

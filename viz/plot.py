@@ -1,7 +1,10 @@
 """History plots: per-step series of a result against time, load or approach (matplotlib, Agg).
 
 The figure is made with :class:`matplotlib.figure.Figure` directly (no pyplot,
-no GUI backend, no global state), one panel per quantity, SI units in the labels.
+no GUI backend, no global state), one panel per quantity. Lengths, areas and
+pressures are shown in a readable unit (``contact radius [mm]``,
+``max pressure [MPa]``, chosen like the pictures' colour bars by
+:func:`viz.render.display_unit`), other quantities in SI units.
 """
 import os
 
@@ -10,12 +13,13 @@ import numpy as np
 from framework.errors import ParameterError
 
 from . import _deps
+from .render import display_unit
 
 #: Series that can be plotted: name -> (label, SI unit, component names or None).
 QUANTITIES = {
     "load": ("load", "N", None),
     "approach": ("approach", "m", None),
-    "contact_area": ("contact area", "m$^2$", None),
+    "contact_area": ("contact area", "m\u00b2", None),
     "contact_radius": ("contact radius", "m", None),
     "max_pressure": ("max pressure", "Pa", None),
     "center": ("load centre", "m", ("x1", "x2")),
@@ -91,7 +95,9 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
     if len(result) == 0:
         raise ParameterError("the result has no steps to plot")
     figure_module = _deps.require("matplotlib.figure")
-    x = _series(result, against)
+    xlabel, xunit = AGAINST[against]
+    x_scale, xunit = display_unit(xunit, _magnitude(_series(result, against)))
+    x = _series(result, against) / x_scale
     positive = x[x > 0]
     if xscale is None:
         xscale = "linear"
@@ -99,10 +105,12 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
             xscale = "symlog"
     figure = figure_module.Figure(figsize=(8.0, 1.2 + 2.3 * len(quantities)), dpi=dpi, layout="constrained")
     axes = figure.subplots(len(quantities), 1, sharex=True, squeeze=False)[:, 0]
-    xlabel, xunit = AGAINST[against]
     for ax, name in zip(axes, quantities):
         label, unit, components = QUANTITIES[name]
         y = _series(result, name)
+        resolution = _resolution(result, name)
+        y_scale, unit = display_unit(unit, max(_magnitude(y), resolution))
+        y, resolution = y / y_scale, resolution / y_scale
         if components:
             for c, component in enumerate(components):
                 ax.plot(x, y[:, c], "o-", markersize=3, label=component)
@@ -110,6 +118,10 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
         else:
             ax.plot(x, y, "o-", markersize=3)
         ax.set_ylabel(f"{label} [{unit}]")
+        low, high = np.nanmin(y, initial=np.inf), np.nanmax(y, initial=-np.inf)
+        if high - low < resolution:  # round-off, not a change: keep it flat
+            middle = (low + high) / 2 if np.isfinite(low + high) else 0.0
+            ax.set_ylim(middle - resolution, middle + resolution)
         ax.grid(True, alpha=0.3)
         if name != "residual" and name != "iterations":
             ax.ticklabel_format(axis="y", style="sci", scilimits=(-3, 4), useMathText=True)
@@ -129,6 +141,22 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
     path = os.fspath(png)
     figure.savefig(path)
     return path
+
+
+def _magnitude(values):
+    """Largest finite absolute value (0 when there is none): picks the display unit."""
+    values = np.abs(np.asarray(values, dtype=float))
+    return float(np.max(values[np.isfinite(values)], initial=0.0))
+
+
+def _resolution(result, name):
+    """Smallest change of a series that is not round-off, in its SI unit (0: any change counts).
+
+    The load centre of a symmetric contact wanders by 1e-14 m of round-off;
+    plotted on its own scale that looks like motion. Its axis spans at least
+    half a cell either side.
+    """
+    return 0.5 * min(result.grid.spacing) if name == "center" else 0.0
 
 
 def _default_title(result):
