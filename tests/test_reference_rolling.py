@@ -139,8 +139,8 @@ def test_elastic_sphere_is_hertz():
 
 # --------------------------------------------------------------------------- slow and fast limits
 
-# the departure from the limit: O(V lambda / a) at low speed (1e-5 p0 near the edges); at high speed the plane-strain wake tilts the contact
-# by O((c_1/c_0) (a / (V lambda)) ln(V lambda / a)), ~1.3e-4 at V lambda / a0 = 1e6
+# the departure from the limit: O(V lambda / a) at low speed (1e-5 p0 near the edges); at high speed the
+# plane-strain wake tilts the contact by O((c_1/c_0) (a / (V lambda)) ln(V lambda / a)), ~1.3e-4 at 1e6
 @pytest.mark.parametrize("speed, elastic, departure", [(1e-6, RELAXED, 1e-4), (1e6, GLASSY, 5e-4)])
 def test_line_contact_tends_to_relaxed_and_glassy_hertz(speed, elastic, departure):
     cells = 400
