@@ -8,20 +8,25 @@
   contact (McEwen 1949) stresses, and line loads by quadrature.
 - :mod:`.viscoelastic`: Lee & Radok (1960) step load, step and ramp approach;
   Ting (1966) / Graham (1967) receding contact (sphere, single maximum).
+- :mod:`.rolling`: steady rolling / frictionless sliding of a rigid cylinder
+  (plane strain, Hunter 1961) and sphere over a viscoelastic half-space,
+  solved densely (filtered influence coefficients, exact active set).
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
 from .hertz import HertzCylinder, HertzSphere
 from .plane_strain import hertz_line_stress, line_load_stress, plane_strain_stress_by_quadrature, strip_stress
 from .punch import FlatPunch, RoundedFlatPunch
+from .rolling import SteadyLineContact, SteadySphereContact, steady_line_contact, steady_sphere
 from .viscoelastic import (TingSolution, lee_radok_load_for_approach, lee_radok_ramp_load,
                            lee_radok_step_approach_load, lee_radok_step_load, lee_radok_step_load_pressure,
                            ting_contact_radius)
 from .westergaard import Westergaard
 
-__all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "TingSolution", "Westergaard",
+__all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "SteadyLineContact", "SteadySphereContact",
+           "TingSolution", "Westergaard",
            "lee_radok_load_for_approach", "lee_radok_ramp_load", "lee_radok_step_approach_load", "lee_radok_step_load",
            "lee_radok_step_load_pressure", "ting_contact_radius",
            "point_load_displacement", "point_load_stress", "rectangle_displacement_by_quadrature",
            "rectangle_stress_by_quadrature", "hertz_line_stress", "line_load_stress",
-           "plane_strain_stress_by_quadrature", "strip_stress"]
+           "plane_strain_stress_by_quadrature", "strip_stress", "steady_line_contact", "steady_sphere"]
