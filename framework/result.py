@@ -82,12 +82,19 @@ class Result:
 
     @property
     def center(self):
-        """Load centre ``sum p x dA / W`` [m], shape (n, 2)."""
+        """Load centre ``sum p x dA / W`` [m], shape (n, 2).
+
+        Without load (no pressure) the centre is undefined: it is then the
+        point where the schedule applies the load, its ``offset`` (``(0, 0)``,
+        the indenter's axis, for a centred schedule), so that the series holds
+        no NaN.
+        """
         x1, x2 = self.grid.coordinates()
+        applied = tuple(getattr(self.schedule, "offset", (0.0, 0.0)))
         rows = []
         for r in self.records:
             total = r.pressure.sum()
-            rows.append((np.nan, np.nan) if total == 0 else
+            rows.append(applied if total == 0 else
                         ((r.pressure * x1).sum() / total, (r.pressure * x2).sum() / total))
         return np.array(rows, dtype=float).reshape(-1, 2)
 
