@@ -25,6 +25,9 @@ class Grid:
     periodic : tuple of bool
         Per surface axis: periodic (circular convolution) or not (DC-FFT, the
         exact linear convolution).
+
+    Lengths lie between 1e-12 and 1e6 m (``framework._validation.LIMITS``). A
+    simulation needs at least 3 cells along a non-periodic axis.
     """
 
     shape: tuple

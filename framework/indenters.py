@@ -4,6 +4,8 @@ The axis of an axisymmetric body passes through the origin of the grid; the
 height is the separation from the undeformed flat surface when the body just
 touches it. Bodies with vertical walls (flat punches) use a wall as high as
 ``WALL`` times the larger grid side, far above any small-strain displacement.
+Radii lie between 1e-12 and 1e6 m and heights within +/-1e6 m
+(``framework._validation.LIMITS``).
 """
 from dataclasses import dataclass, field
 

@@ -11,6 +11,9 @@ no step is longer than ``max_step`` whatever the output times (output times
 once per period would otherwise sample a sine at one phase and treat the load
 as constant in between).
 
+Times and durations are 0 or lie between 1e-15 and 1e15 s
+(``framework._validation.LIMITS``); the schedule bounds the values.
+
 Every history can stand alone (it starts at t = 0, or at ``start``/``at``)
 or be a segment of a :class:`Sequence`, which chains them: each segment starts
 where and when the previous one ended.

@@ -333,7 +333,8 @@ class Simulation:
         Parameters
         ----------
         progress : bool
-            Print one line per step (the same line on a terminal).
+            Print one line per step (the same line on a terminal), ``step k/last``
+            with the 0-based step index of ``Result`` and the exported files.
         callback : callable, optional
             ``callback(result, record)`` after each finished step (e.g. to write
             it to disk at once).
@@ -373,7 +374,7 @@ class Simulation:
                 if checkpoint is not None and len(result) % every == 0:
                     save()
                 if progress:
-                    print(f"step {record.index + 1}/{total}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
+                    print(f"step {record.index}/{total - 1}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
                           f"approach = {record.approach:.4g} m  iterations = {record.iterations}", end=end, flush=True)
             if checkpoint is not None and hasattr(self, "_position"):
                 save()

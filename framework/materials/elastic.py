@@ -14,7 +14,7 @@ class Elastic:
     Parameters
     ----------
     young : float
-        Young's modulus [Pa].
+        Young's modulus [Pa], between 1e-3 and 1e15 (``framework._validation.LIMITS``).
     poisson : float
         Poisson ratio, in (-1, 0.5].
     """
