@@ -213,7 +213,7 @@ def parse(data, source="<scenario>"):
                                      f"{total} output times, got {steps!r}")
         for i, picture in enumerate(output.pictures):
             step = picture.get("step", -1)
-            if not isinstance(step, int) or not -total <= step < total:
+            if not isinstance(step, int) or isinstance(step, bool) or not -total <= step < total:
                 raise ParameterError(f"output.pictures[{i}].step: expected an index in [-{total}, {total}), "
                                      f"got {step!r}")
         simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 import math
+import os
 
 from . import loads, schedules
 from ._validation import check_bool, check_positive_int
@@ -272,7 +273,10 @@ class Simulation:
                     f"grid: shape[{axis}] must be >= 3 along the non-periodic axis x{axis + 1} (on a narrower grid "
                     f"every cell lies on the edge, where the half-space ends, so no contact can stay inside), got "
                     f"{cells}; use tens of cells to resolve a contact, or make the axis periodic")
-        self._heights = self.indenter.on_grid(grid)
+        try:
+            self._heights = self.indenter.on_grid(grid)
+        except MemoryError as exc:
+            raise ParameterError(f"grid: {grid.shape[0]} x {grid.shape[1]} cells do not fit in memory") from exc
         self._series = series = self.material.contact_compliance()
         offset = getattr(schedule, "offset", None)
         if offset is not None:
@@ -353,6 +357,14 @@ class Simulation:
         from . import io
         progress = check_bool(progress, name="progress")
         every = check_positive_int(every, name="every")
+        if callback is not None and not callable(callback):
+            raise ParameterError(f"callback must be a function callback(result, record), got {callback!r}")
+        if checkpoint is not None:
+            if not isinstance(checkpoint, (str, os.PathLike)):
+                raise ParameterError(f"checkpoint must be a file path, got {checkpoint!r}")
+            folder = os.path.dirname(os.path.abspath(checkpoint))
+            if not os.path.isdir(folder):
+                raise ParameterError(f"checkpoint {os.fspath(checkpoint)!r}: no folder {folder!r} to write it in")
         self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options)
         state = None
         if resume is not None:
@@ -390,7 +402,10 @@ class Simulation:
         """Load the finished steps of a checkpoint into ``result``; return the stepper state (None: done)."""
         import json
         from . import io
-        configuration, records, state = io.read(path)
+        try:
+            configuration, records, state = io.read(path)
+        except ParameterError as exc:
+            raise ParameterError(f"resume: {exc}") from exc
         mine = result.configuration()
         differing = sorted(key for key in mine if key != "framework_version"
                            and json.dumps(mine[key]) != json.dumps(configuration.get(key)))

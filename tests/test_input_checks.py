@@ -56,12 +56,34 @@ def test_options_objects_check_themselves():
     (dict(every=0), r"every must be an integer >= 1, got 0"),
     (dict(every=-3), r"every must be an integer >= 1, got -3"),
     (dict(progress="no"), r"progress must be a boolean, true or false, got 'no'"),
+    (dict(callback="print"), r"callback must be a function callback\(result, record\), got 'print'"),
+    (dict(checkpoint=123), r"checkpoint must be a file path, got 123"),
+    (dict(checkpoint="/no/such/folder/c.h5"), r"checkpoint '/no/such/folder/c.h5': no folder '/no/such/folder'"),
+    (dict(resume="/no/such/run.h5"), r"resume: .*no result file at '/no/such/run.h5'"),
 ])
 def test_bad_run_arguments(kwargs, message, tmp_path):
     sim = simulation()
+    kwargs.setdefault("checkpoint", str(tmp_path / "c.h5"))
     with pytest.raises(errors.ParameterError, match=message):
-        sim.run(checkpoint=str(tmp_path / "c.h5"), **kwargs)
+        sim.run(**kwargs)
     assert not (tmp_path / "c.h5").exists()
+    assert sim.result is None or len(sim.result) == 0
+
+
+def test_bad_result_queries():
+    result = fw.Simulation(grid=fw.Grid(shape=(8, 8), size=(1e-3, 1e-3), depth=1e-3, layers=2), material=ELASTIC,
+                           indenter=indenters.Sphere(radius=5e-3), schedule=schedules.Static(load=[1.0, 2.0])).run()
+    with pytest.raises(errors.ParameterError, match=r"step must be an integer index in \[-2, 2\), got True"):
+        result.pressure(True)
+    with pytest.raises(errors.ParameterError, match=r"points must be finite everywhere, got nan at index \(0, 0\)"):
+        result.stress_at(0, [[np.nan, 0.0, 1e-4]])
+    with pytest.raises(errors.ParameterError, match=r"points must be an array of real numbers, got str"):
+        result.stress_at(0, "centre")
+
+
+def test_a_grid_beyond_any_memory():
+    with pytest.raises(errors.ParameterError, match=r"grid: 10000000 x 10000000 cells do not fit in memory"):
+        simulation(grid=fw.Grid(shape=(10**7, 10**7), size=(1e-3, 1e-3)))
 
 
 # --------------------------------------------------------------------------- booleans, loads, grids

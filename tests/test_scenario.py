@@ -160,6 +160,8 @@ SLICE = GOOD + "[output]\npictures = [{ field = 'von_mises', kind = 'slice' }]\n
     (GOOD + "[output]\npictures = [{ field = 'pressure' }, { field = 'pressure', step = 0 }]\n",
      r"output.pictures\[1\].file: 'pressure_map.png' is already written by output.pictures\[0\]"),
     (GOOD + "[output]\nvtu = 'yes'\n", r"output.vtu must be a boolean, true or false, got 'yes'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', step = true }]\n",
+     r"output.pictures\[0\].step: expected an index in \[-1, 1\), got True"),
     (GOOD + "[output]\nsummary = false\n", r"output: unknown key\(s\) \['summary'\]"),
     (GOOD + "[output]\nsteps = [true]\n", r"output.steps: expected \"all\" or a list of step indices, got \[True\]"),
     (GOOD + "[options]\ntolerance = 0.0\n", r"bad.toml: options: tolerance must lie in \[1e-15, 1\)"),
