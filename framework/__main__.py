@@ -7,7 +7,13 @@
                                                          run a parametric sweep on Dask
 
 The numerical core never imports ``viz``; this entry point does, when a
-scenario asks for VTU files or pictures.
+scenario asks for VTU files or pictures, and to check the names of its
+pictures and plots against viz's own tables.
+
+Every bad input (scenario file, argument, output folder) is one line
+``error: ...`` with exit code 2, found before anything is written: ``check``
+validates everything ``run`` needs. Steps are numbered from 0 everywhere, as in
+the file names (``surface_0000.vtu``).
 """
 import argparse
 import csv

@@ -246,6 +246,15 @@ class Simulation:
         Inhomogeneities (not available yet: must be None).
     options : dict or Options, optional
         Solver tolerances and run choices (see :class:`Options`).
+
+    Raises
+    ------
+    ParameterError, ShapeError, LoadNotCarriedError
+        At construction, before any step, for everything the parts cannot
+        check alone: fewer than 3 cells along a non-periodic axis, a HeightMap
+        of another shape than the grid, an offset the body cannot carry, a
+        sudden change of load on a Kelvin-Voigt solid, more than
+        :data:`MAX_STATIONS` time steps.
     """
 
     def __init__(self, grid, material, indenter, schedule, inclusions=None, options=None):
@@ -282,7 +291,7 @@ class Simulation:
         if offset is not None:
             _check_offset(offset, self.indenter.reach(grid), grid.coordinates())
         memory = len(series.terms) > 0 or series.flow > 0
-        self._stations = stations = _stations(schedule, refine=memory)
+        self._timeline = stations = _stations(schedule, refine=memory)
         if series.c0 <= 0:
             for (time, before, _), (later, after, _) in zip(stations, stations[1:]):
                 if later == time and after != before:
@@ -307,7 +316,7 @@ class Simulation:
         load_control = self.schedule.control == "load"
         offset = getattr(self.schedule, "offset", None)
         coordinates = grid.coordinates() if offset is not None else None
-        for number, (time, value, recorded) in enumerate(self._stations):
+        for number, (time, value, recorded) in enumerate(self._timeline):
             if number < start:
                 continue
             compliance, memory = integrator.prepare(time)
@@ -414,7 +423,7 @@ class Simulation:
                                  f"({', '.join(differing)} differ); run it with its own scenario or start afresh")
         for record in records:
             result.append(record)
-        if state is None or int(state["station"]) >= len(self._stations):
+        if state is None or int(state["station"]) >= len(self._timeline):
             return None
         return state
 
