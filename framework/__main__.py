@@ -7,15 +7,23 @@
                                                          run a parametric sweep on Dask
 
 The numerical core never imports ``viz``; this entry point does, when a
-scenario asks for VTU files or pictures.
+scenario asks for VTU files or pictures, and to check the names of its
+pictures and plots against viz's own tables.
+
+Every bad input (scenario file, argument, output folder) is one line
+``error: ...`` with exit code 2, found before anything is written: ``check``
+validates everything ``run`` needs. Steps are numbered from 0 everywhere, as in
+the file names (``surface_0000.vtu``).
 """
 import argparse
 import csv
 import os
+import re
 import sys
 import time
 
 from .errors import FrameworkError
+from .scenario import ScenarioError, picture_file
 
 
 def write_summary(result, path):
@@ -38,11 +46,73 @@ def print_table(result, rows=12):
           f"{'tilt rad':>10} {'iter':>5}")
     steps = range(len(result))
     if len(result) > rows:
-        steps = list(range(rows // 2)) + list(range(len(result) - rows // 2, len(result)))
+        steps = list(range(rows // 2)) + [None] + list(range(len(result) - rows // 2, len(result)))
     for k in steps:
+        if k is None:
+            print(f"{'...':>5}")
+            continue
         print(f"{k:5d} {result.times[k]:10.4g} {result.load[k]:10.4g} {result.approach[k]:12.5g} "
               f"{result.contact_radius[k]:11.4g} {result.max_pressure[k]:11.4g} {result.tilt[k, 0]:10.3g} "
               f"{result.iterations[k]:5d}")
+
+
+def _viz():
+    try:
+        import viz
+    except ImportError as exc:
+        raise FrameworkError(f"this scenario writes VTU files or pictures, which need the viz extra: "
+                             f"pip install 'viscocontact[viz]' ({exc})") from exc
+    return viz
+
+
+def _has_stresses(grid):
+    """Subsurface stresses exist with layers on a grid periodic along both axes or neither."""
+    return grid.layers > 0 and sum(grid.periodic) != 1
+
+
+def check_output(scenario):
+    """Check the names in ``[output]`` against what :mod:`viz` draws, before anything runs.
+
+    The names belong to viz (its field, kind and series tables); ``framework``
+    never imports viz, this entry point does, so the lists are not copied.
+    """
+    output, grid = scenario.output, scenario.simulation.grid
+    if not (output.pictures or output.history):
+        return
+    _viz()  # a clear message if it is missing
+    from viz.plot import QUANTITIES as series
+    from viz.render import KINDS as kinds
+    for i, picture in enumerate(output.pictures):
+        kind, field, where = picture.get("kind", "map"), picture["field"], f"output.pictures[{i}]"
+        if kind not in kinds:
+            raise ScenarioError(f"{scenario.source}: {where}.kind: expected one of {sorted(kinds)}, got {kind!r}")
+        if field not in kinds[kind]:
+            raise ScenarioError(f"{scenario.source}: {where}.field: expected one of {list(kinds[kind])} for "
+                                f"kind {kind!r}, got {field!r}")
+        if kind == "slice" and not _has_stresses(grid):
+            raise ScenarioError(f"{scenario.source}: {where}: a slice shows subsurface stresses, which need "
+                                f"[grid] layers and depth on a grid periodic along both axes or neither, got "
+                                f"layers = {grid.layers}, periodic = {list(grid.periodic)}")
+    unknown = [name for name in output.history if name not in series]
+    if unknown:
+        raise ScenarioError(f"{scenario.source}: output.history: unknown series {unknown}; expected some of "
+                            f"{list(series)}")
+
+
+def prepare_folder(out, source):
+    """Create the output folder (or check an existing one is a writable folder) and mark the run incomplete."""
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise FrameworkError(f"--out {out!r} is a file; expected a folder for the results")
+    try:
+        os.makedirs(out, exist_ok=True)
+        if not os.access(out, os.W_OK | os.X_OK):
+            raise PermissionError(13, "Permission denied")
+        marker = os.path.join(out, "INCOMPLETE")
+        with open(marker, "w") as f:
+            f.write(f"run of {source} in progress or failed; the files here hold the finished steps only\n")
+    except OSError as exc:
+        raise FrameworkError(f"--out {out!r}: cannot write the results there ({exc.strerror or exc})") from exc
+    return marker
 
 
 def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
@@ -52,20 +122,12 @@ def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
     replaces it. ``resume`` continues from ``checkpoint.h5``.
     """
     output = scenario.output
-    viz = None
-    if output.vtu or output.pictures or output.history:
-        try:
-            import viz
-        except ImportError as exc:
-            raise FrameworkError(f"this scenario writes VTU files or pictures, which need the viz extra: "
-                                 f"pip install 'viscocontact[viz]' ({exc})") from exc
+    viz = _viz() if output.vtu or output.pictures or output.history else None
+    check_output(scenario)
     checkpoint = os.path.join(out, "checkpoint.h5")
     if resume and not os.path.isfile(checkpoint):
         raise FrameworkError(f"--resume: no checkpoint to resume in {out!r} (expected {checkpoint})")
-    os.makedirs(out, exist_ok=True)
-    marker = os.path.join(out, "INCOMPLETE")
-    with open(marker, "w") as f:
-        f.write(f"run of {scenario.source} in progress or failed; the files here hold the finished steps only\n")
+    marker = prepare_folder(out, scenario.source)
     summary = os.path.join(out, "summary.csv")
     total = len(scenario.simulation.schedule.times)
 
@@ -75,8 +137,7 @@ def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
     exporters = []
     if output.vtu:
         exporters.append((viz.Exporter(out, volume=False), resolve(output.steps)))
-        grid = scenario.simulation.grid
-        if grid.layers and sum(grid.periodic) != 1:
+        if _has_stresses(scenario.simulation.grid):
             exporters.append((viz.Exporter(out, surface=False, indenter=False, volume=True, single=output.single),
                               resolve(output.volume_steps)))
 
@@ -96,17 +157,55 @@ def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
                 if (wanted is None or record.index in wanted) and record.index not in exporter.steps:
                     exporter.write(result, record.index)
         write_summary(result, summary)
-    result.save(os.path.join(out, "result.h5"))
+    written = [summary, os.path.join(out, "result.h5")] + [path for exporter, _ in exporters for path in exporter.files]
+    result.save(written[1])
     os.remove(checkpoint)
     for picture in output.pictures:
-        name = picture.get("file") or f"{picture['field']}_{picture.get('kind', 'map')}.png"
-        viz.render(result, os.path.join(out, name), field=picture["field"], step=picture.get("step", -1),
+        written.append(os.path.join(out, picture_file(picture)))
+        viz.render(result, written[-1], field=picture["field"], step=picture.get("step", -1),
                    kind=picture.get("kind", "map"))
     if output.history:
-        viz.plot_history(result, os.path.join(out, "history.png"), list(output.history))
+        written.append(os.path.join(out, "history.png"))
+        viz.plot_history(result, written[-1], list(output.history))
     os.remove(marker)
-    written = sorted(os.path.join(out, name) for name in os.listdir(out))
-    return result, written, elapsed
+    return result, sorted(set(written)), elapsed
+
+
+def describe_files(paths):
+    """Lines ``count  kind  size`` of files grouped by kind: ``surface_NNNN.vtu``, ``*.png``, ``result.h5``."""
+    groups = {}
+    for path in paths:
+        name = os.path.basename(path)
+        kind = re.sub(r"_\d{4}\.vtu$", "_NNNN.vtu", name)
+        if kind == name and name.endswith((".png", ".pvd")):
+            kind = "*" + os.path.splitext(name)[1]
+        count, size = groups.get(kind, (0, 0))
+        groups[kind] = (count + 1, size + os.path.getsize(path))
+    return [f"{count:5d}  {kind:<18} {_size(size)}" for kind, (count, size) in sorted(groups.items())]
+
+
+def _size(size):
+    return f"{size / 1e6:6.1f} MB" if size >= 1e5 else f"{size / 1e3:6.1f} kB"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse whose usage errors are one line ``error: ...`` (exit code 2), like every other bad input."""
+
+    def error(self, message):
+        self.exit(2, f"error: {message} (see {self.prog} -h)\n")
+
+
+def _integer(minimum):
+    """An argparse type: an integer >= ``minimum``."""
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or value < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {text!r}")
+        return value
+    return parse
 
 
 def main(argv=None):
@@ -115,8 +214,8 @@ def main(argv=None):
     if argv[:1] == ["sweep"]:
         from .sweep import main as sweep_main
         return sweep_main(argv[1:])
-    parser = argparse.ArgumentParser(prog="python -m framework", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = _Parser(prog="python -m framework", description=__doc__,
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True)
     run = commands.add_parser("run", help="run a scenario file")
     run.add_argument("scenario", help="scenario file (TOML)")
@@ -124,11 +223,11 @@ def main(argv=None):
     demo = commands.add_parser("demo", help="run the built-in default scenario")
     demo.add_argument("--out", default="out", help="output folder (default: out)")
     for command in (run, demo):
-        command.add_argument("--cells", type=int, default=None,
+        command.add_argument("--cells", type=_integer(3), default=None,
                              help="replace the grid by CELLS x CELLS cells of the same size (a quick look)")
         command.add_argument("--quiet", action="store_true", help="no progress lines")
     run.add_argument("--resume", action="store_true", help="continue a killed run from DIR/checkpoint.h5")
-    run.add_argument("--every", type=int, default=10, help="steps between checkpoints (default: 10)")
+    run.add_argument("--every", type=_integer(1), default=10, help="steps between checkpoints (default: 10)")
     check = commands.add_parser("check", help="check a scenario file without running it")
     check.add_argument("scenario")
     commands.add_parser("sweep", help="run a parametric sweep on Dask (python -m framework sweep -h)")
@@ -136,6 +235,7 @@ def main(argv=None):
     try:
         path = scenarios.demo_path() if args.command == "demo" else args.scenario
         scenario = scenarios.read(path, cells=getattr(args, "cells", None))
+        check_output(scenario)
         if args.command == "check":
             print(f"{path}: ok ({len(scenario.simulation.schedule.times)} steps on a "
                   f"{scenario.simulation.grid.shape} grid)")
@@ -147,9 +247,11 @@ def main(argv=None):
         print(f"error: {exc}", file=sys.stderr)
         return 2
     print_table(result)
-    print(f"{len(result)} steps in {elapsed:.1f} s; wrote {len(written)} files to {args.out}:")
-    for path in written:
-        print(f"  {path}")
+    total = sum(os.path.getsize(path) for path in written)
+    print(f"{len(result)} steps (0 to {len(result) - 1}) in {elapsed:.1f} s; wrote {len(written)} files, "
+          f"{_size(total).strip()}, to {args.out}{os.sep}:")
+    for line in describe_files(written):
+        print(line)
     return 0
 
 

@@ -1,9 +1,26 @@
-"""Small checks that name the parameter and the value they received."""
+"""Small checks that name the parameter and the value they received.
+
+Physical inputs must also lie within :data:`LIMITS`, per SI unit: ranges wide
+enough for any physical use, narrow enough that products of a few of them
+(pressure x area, compliance x length, time / relaxation time) stay far inside
+double precision. Outside them (1e-300 m, 1e300 Pa) a run would overflow or
+divide by zero deep inside a solve, or report a misleading cause.
+"""
 import numbers
 
 import numpy as np
 
 from .errors import ParameterError, ShapeError
+
+
+#: Admissible magnitudes of physical inputs (non-zero ones), per SI unit: ``unit: (low, high)``.
+LIMITS = {
+    "m": (1e-12, 1e6),     # lengths: below an atom's size to a thousand kilometres
+    "Pa": (1e-3, 1e15),    # moduli: a thousand times softer than the softest gels, harder than diamond
+    "1/Pa": (1e-15, 1e3),  # compliances: the inverse range
+    "s": (1e-15, 1e15),    # times: a femtosecond to thirty million years
+    "N": (0.0, 1e12),      # loads (a history passes through small values: no lower limit)
+}
 
 
 def _is_real(value):
@@ -31,6 +48,27 @@ def check_non_negative(value, *, name, unit=""):
     if value < 0.0:
         raise ParameterError(f"{name} must be >= 0{unit and ' [' + unit + ']'}, got {value!r}")
     return value
+
+
+def check_quantity(value, *, name, unit, zero=False, lower=True):
+    """Return ``value`` as a float if it is finite, > 0 (>= 0 with ``zero``) and, unless 0, within ``LIMITS[unit]``.
+
+    ``lower=False`` waives the lower limit (a Prony term may be arbitrarily weak next to the others).
+    """
+    value = check_non_negative(value, name=name, unit=unit) if zero else check_positive(value, name=name, unit=unit)
+    low, high = LIMITS[unit]
+    low = low if lower else 0.0
+    if value and not low <= value <= high:
+        raise ParameterError(f"{name} must lie between {low:g} and {high:g} {unit}{' (or be 0)' if zero else ''}, "
+                             f"the range this framework accepts, got {value!r}")
+    return value
+
+
+def check_bool(value, *, name):
+    """Return ``value`` as a bool if it is one (``"no"`` or ``1`` are not booleans)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be a boolean, true or false, got {value!r}")
+    return bool(value)
 
 
 def check_positive_int(value, *, name, minimum=1):

@@ -3,7 +3,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_positive, check_positive_int
+from ._validation import check_bool, check_positive_int, check_quantity
 from .errors import ParameterError
 
 
@@ -25,6 +25,9 @@ class Grid:
     periodic : tuple of bool
         Per surface axis: periodic (circular convolution) or not (DC-FFT, the
         exact linear convolution).
+
+    Lengths lie between 1e-12 and 1e6 m (``framework._validation.LIMITS``). A
+    simulation needs at least 3 cells along a non-periodic axis.
     """
 
     shape: tuple
@@ -40,17 +43,19 @@ class Grid:
         shape = tuple(check_positive_int(n, name=f"shape[{i}]") for i, n in enumerate(shape))
         if not isinstance(size, (tuple, list)) or len(size) != 2:
             raise ParameterError(f"size must be a pair (L1, L2) of lengths [m], got {size!r}")
-        size = tuple(check_positive(s, name=f"size[{i}]", unit="m") for i, s in enumerate(size))
-        if not isinstance(periodic, (tuple, list)) or len(periodic) != 2 \
-                or not all(isinstance(p, (bool, np.bool_)) for p in periodic):
+        size = tuple(check_quantity(s, name=f"size[{i}]", unit="m") for i, s in enumerate(size))
+        if not isinstance(periodic, (tuple, list)) or len(periodic) != 2:
             raise ParameterError(f"periodic must be a pair of booleans, got {periodic!r}")
+        periodic = tuple(check_bool(p, name=f"periodic[{i}]") for i, p in enumerate(periodic))
         layers = check_positive_int(self.layers, name="layers", minimum=0)
         depth = self.depth
-        if layers > 0 or depth is not None:
-            depth = check_positive(depth if depth is not None else float("nan"), name="depth", unit="m")
+        if layers > 0 and depth is None:
+            raise ParameterError(f"depth is missing: layers = {layers} needs the depth [m] of the subsurface box")
+        if depth is not None:
+            depth = check_quantity(depth, name="depth", unit="m")
         object.__setattr__(self, "shape", shape)
         object.__setattr__(self, "size", size)
-        object.__setattr__(self, "periodic", tuple(bool(p) for p in periodic))
+        object.__setattr__(self, "periodic", periodic)
         object.__setattr__(self, "layers", layers)
         object.__setattr__(self, "depth", depth)
 

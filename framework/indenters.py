@@ -4,12 +4,14 @@ The axis of an axisymmetric body passes through the origin of the grid; the
 height is the separation from the undeformed flat surface when the body just
 touches it. Bodies with vertical walls (flat punches) use a wall as high as
 ``WALL`` times the larger grid side, far above any small-strain displacement.
+Radii lie between 1e-12 and 1e6 m and heights within +/-1e6 m
+(``framework._validation.LIMITS``).
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._validation import check_finite_array, check_non_negative, check_positive
+from ._validation import LIMITS, check_bool, check_finite_array, check_quantity
 from .errors import ParameterError, ShapeError
 
 WALL = 1.0
@@ -27,9 +29,16 @@ class Indenter:
         return np.ones(grid.shape, bool)
 
     def on_grid(self, grid):
-        """Height on the cells of ``grid`` [m], checked finite."""
+        """Height on the cells of ``grid`` [m], checked finite and within the lengths of ``LIMITS``."""
         x1, x2 = grid.coordinates()
-        return check_finite_array(self.height(x1, x2), name=f"{type(self).__name__} height", shape=grid.shape)
+        name = f"{type(self).__name__} height"
+        heights = check_finite_array(self.height(x1, x2), name=name, shape=grid.shape)
+        largest = LIMITS["m"][1]
+        if np.abs(heights).max() > largest:
+            bad = np.unravel_index(np.argmax(np.abs(heights)), heights.shape)
+            raise ParameterError(f"{name} must lie within +/-{largest:g} m, got {float(heights[bad])!r} at index "
+                                 f"{tuple(int(i) for i in bad)}")
+        return heights
 
 
 def _wall(x1, x2):
@@ -53,7 +62,8 @@ class Sphere(Indenter):
     exact: bool = False
 
     def __post_init__(self):
-        object.__setattr__(self, "radius", check_positive(self.radius, name="radius", unit="m"))
+        object.__setattr__(self, "radius", check_quantity(self.radius, name="radius", unit="m"))
+        object.__setattr__(self, "exact", check_bool(self.exact, name="exact"))
 
     def height(self, x1, x2):
         r2 = np.asarray(x1) ** 2 + np.asarray(x2) ** 2
@@ -75,7 +85,7 @@ class FlatPunch(Indenter):
     radius: float
 
     def __post_init__(self):
-        object.__setattr__(self, "radius", check_positive(self.radius, name="radius", unit="m"))
+        object.__setattr__(self, "radius", check_quantity(self.radius, name="radius", unit="m"))
 
     def height(self, x1, x2):
         r = np.hypot(x1, x2)
@@ -103,8 +113,8 @@ class RoundedFlatPunch(Indenter):
     edge_radius: float
 
     def __post_init__(self):
-        object.__setattr__(self, "flat_radius", check_non_negative(self.flat_radius, name="flat_radius", unit="m"))
-        object.__setattr__(self, "edge_radius", check_positive(self.edge_radius, name="edge_radius", unit="m"))
+        object.__setattr__(self, "flat_radius", check_quantity(self.flat_radius, name="flat_radius", unit="m", zero=True))
+        object.__setattr__(self, "edge_radius", check_quantity(self.edge_radius, name="edge_radius", unit="m"))
 
     def height(self, x1, x2):
         excess = np.maximum(np.hypot(x1, x2) - self.flat_radius, 0.0)
@@ -127,9 +137,10 @@ class Cylinder(Indenter):
     axis: int = 1
 
     def __post_init__(self):
-        object.__setattr__(self, "radius", check_positive(self.radius, name="radius", unit="m"))
-        if self.axis not in (0, 1):
+        object.__setattr__(self, "radius", check_quantity(self.radius, name="radius", unit="m"))
+        if not isinstance(self.axis, (int, np.integer)) or isinstance(self.axis, bool) or self.axis not in (0, 1):
             raise ParameterError(f"axis must be 0 (along x1) or 1 (along x2), got {self.axis!r}")
+        object.__setattr__(self, "axis", int(self.axis))
 
     def height(self, x1, x2):
         across = np.asarray(x2 if self.axis == 0 else x1)
@@ -157,7 +168,7 @@ class HeightMap(Indenter):
 
     def height(self, x1, x2):
         if callable(self.heights):
-            return np.asarray(self.heights(x1, x2), dtype=float)
+            return np.asarray(self.heights(x1, x2))  # on_grid converts it, saying what was wrong
         if np.shape(x1) != self.heights_array.shape:
             raise ShapeError(f"heights has shape {self.heights_array.shape}, the grid has shape {np.shape(x1)}")
         return self.heights_array

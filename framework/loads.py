@@ -4,7 +4,15 @@ A history is a right-continuous function of time, zero before it starts. Its
 ``jumps`` are the times where it is discontinuous and its ``kinks`` the times
 where its slope changes; the time stepper puts a station at each (a jump is
 applied with zero time increment), so a piecewise-linear history is followed
-exactly by the piecewise-linear pressure of the Prony recursions.
+exactly by the piecewise-linear pressure of the Prony recursions. A smooth
+curved history (a sine) says in ``resolution`` how finely it must be followed:
+on a material with memory the stepper adds unrecorded stations there, so that
+no step is longer than ``max_step`` whatever the output times (output times
+once per period would otherwise sample a sine at one phase and treat the load
+as constant in between).
+
+Times and durations are 0 or lie between 1e-15 and 1e15 s
+(``framework._validation.LIMITS``); the schedule bounds the values.
 
 Every history can stand alone (it starts at t = 0, or at ``start``/``at``)
 or be a segment of a :class:`Sequence`, which chains them: each segment starts
@@ -14,8 +22,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_finite_array, check_non_negative, check_positive, check_positive_int, check_real
+from ._validation import LIMITS, check_finite_array, check_non_negative, check_positive_int, check_quantity, check_real
 from .errors import ParameterError
+
+
+#: Time steps per period with which the stepper follows a sine :class:`Cyclic` history.
+STATIONS_PER_PERIOD = 32
 
 
 class History:
@@ -29,6 +41,7 @@ class History:
 
     segment_jumps = ()
     segment_kinks = ()
+    segment_resolution = ()
 
     def segment(self, tau, start_value):  # pragma: no cover - interface
         raise NotImplementedError
@@ -42,6 +55,14 @@ class History:
     def kinks(self):
         """Times where the slope changes [s]."""
         return tuple(self.segment_kinks)
+
+    @property
+    def resolution(self):
+        """``((start, end, max_step), ...)`` [s]: over ``[start, end]`` no time step may exceed ``max_step``.
+
+        Empty for a piecewise-linear history, which stations at its jumps and kinks follow exactly.
+        """
+        return tuple(self.segment_resolution)
 
     def __call__(self, t):
         """Value at times ``t`` [s] (right-continuous, 0 before the history starts)."""
@@ -72,7 +93,7 @@ class Step(History):
 
     def __post_init__(self):
         object.__setattr__(self, "value", check_real(self.value, name="value"))
-        object.__setattr__(self, "at", check_non_negative(self.at, name="at", unit="s"))
+        object.__setattr__(self, "at", check_quantity(self.at, name="at", unit="s", zero=True))
 
     span = property(lambda self: self.at)
     segment_jumps = property(lambda self: (self.at,))
@@ -101,8 +122,8 @@ class Ramp(History):
 
     def __post_init__(self):
         object.__setattr__(self, "end", check_real(self.end, name="end"))
-        object.__setattr__(self, "duration", check_positive(self.duration, name="duration", unit="s"))
-        object.__setattr__(self, "start", check_non_negative(self.start, name="start", unit="s"))
+        object.__setattr__(self, "duration", check_quantity(self.duration, name="duration", unit="s"))
+        object.__setattr__(self, "start", check_quantity(self.start, name="start", unit="s", zero=True))
 
     span = property(lambda self: self.start + self.duration)
     segment_kinks = property(lambda self: (self.start, self.start + self.duration))
@@ -128,7 +149,7 @@ class Hold(History):
     value: float = None
 
     def __post_init__(self):
-        object.__setattr__(self, "duration", check_non_negative(self.duration, name="duration", unit="s"))
+        object.__setattr__(self, "duration", check_quantity(self.duration, name="duration", unit="s", zero=True))
         if self.value is not None:
             object.__setattr__(self, "value", check_real(self.value, name="value"))
 
@@ -177,6 +198,13 @@ class Table(History):
 class Cyclic(History):
     """Oscillation ``mean + amplitude * wave(2 pi tau / period)`` for ``cycles`` periods, then ``mean``.
 
+    A sine is followed with at least :data:`STATIONS_PER_PERIOD` time steps per
+    period whatever the output times (its :attr:`resolution`): the stepper takes
+    the value as linear between stations, which then misses the peaks by less
+    than ``(pi / 32)^2 / 2 = 0.5 %`` of the amplitude, and the hereditary
+    response converges as the square of the step. A triangle is piecewise
+    linear: its corners are kinks and it needs nothing more.
+
     Parameters
     ----------
     mean : float
@@ -200,13 +228,19 @@ class Cyclic(History):
     def __post_init__(self):
         object.__setattr__(self, "mean", check_real(self.mean, name="mean"))
         object.__setattr__(self, "amplitude", check_non_negative(self.amplitude, name="amplitude"))
-        object.__setattr__(self, "period", check_positive(self.period, name="period", unit="s"))
+        object.__setattr__(self, "period", check_quantity(self.period, name="period", unit="s"))
         object.__setattr__(self, "cycles", check_positive_int(self.cycles, name="cycles"))
         if self.shape not in ("sine", "triangle"):
             raise ParameterError(f"shape must be 'sine' or 'triangle', got {self.shape!r}")
 
     span = property(lambda self: self.cycles * self.period)
     segment_jumps = property(lambda self: (0.0,))
+
+    @property
+    def segment_resolution(self):
+        if self.shape == "sine":
+            return ((0.0, self.span, self.period / STATIONS_PER_PERIOD),)
+        return ()
 
     @property
     def segment_kinks(self):
@@ -267,6 +301,12 @@ class Sequence(History):
         starts, _ = self._starts()
         return tuple(float(t0 + k) for t0, s in zip(starts, self.segments) for k in s.segment_kinks)
 
+    @property
+    def segment_resolution(self):
+        starts, _ = self._starts()
+        return tuple((float(t0 + a), float(t0 + b), h) for t0, s in zip(starts, self.segments)
+                     for a, b, h in s.segment_resolution)
+
     def segment(self, tau, start_value):  # a sequence always starts from 0 (sequences do not nest)
         tau = np.asarray(tau, dtype=float)
         starts, values = self._starts()
@@ -281,10 +321,15 @@ class Sequence(History):
 
 
 def check_increasing(times, *, name):
-    """Raise unless ``times`` are >= 0 and strictly increasing."""
+    """Raise unless ``times`` are >= 0, strictly increasing and, unless 0, within the ``LIMITS`` of times."""
     times = np.asarray(times, dtype=float)
     if np.any(times < 0):
         raise ParameterError(f"{name} must be >= 0 [s], got {float(times[times < 0][0])!r}")
+    low, high = LIMITS["s"]
+    outside = (times != 0) & ((times < low) | (times > high))
+    if np.any(outside):
+        raise ParameterError(f"{name} must be 0 or lie between {low:g} and {high:g} s, the range this framework "
+                             f"accepts, got {float(times[outside][0])!r}")
     steps = np.diff(times)
     if np.any(steps <= 0):
         i = int(np.argmax(steps <= 0))

@@ -3,6 +3,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._validation import check_finite_array
 from ._version import __version__
 from .errors import ParameterError, ShapeError
 from .operators.kernels import subsurface_stress
@@ -107,12 +108,19 @@ class Result:
 
     @property
     def center(self):
-        """Load centre ``sum p x dA / W`` [m], shape (n, 2)."""
+        """Load centre ``sum p x dA / W`` [m], shape (n, 2).
+
+        Without load (no pressure) the centre is undefined: it is then the
+        point where the schedule applies the load, its ``offset`` (``(0, 0)``,
+        the indenter's axis, for a centred schedule), so that the series holds
+        no NaN.
+        """
         x1, x2 = self.grid.coordinates()
+        applied = tuple(getattr(self.schedule, "offset", (0.0, 0.0)))
         rows = []
         for r in self.records:
             total = r.pressure.sum()
-            rows.append((np.nan, np.nan) if total == 0 else
+            rows.append(applied if total == 0 else
                         ((r.pressure * x1).sum() / total, (r.pressure * x2).sum() / total))
         return np.array(rows, dtype=float).reshape(-1, 2)
 
@@ -127,7 +135,8 @@ class Result:
         return np.zeros(len(self.records))
 
     def _record(self, step):
-        if not isinstance(step, (int, np.integer)) or not -len(self.records) <= step < len(self.records):
+        if not isinstance(step, (int, np.integer)) or isinstance(step, bool) \
+                or not -len(self.records) <= step < len(self.records):
             raise ParameterError(f"step must be an integer index in [-{len(self.records)}, {len(self.records)}), "
                                  f"got {step!r}")
         return self.records[step]
@@ -177,8 +186,8 @@ class Result:
             subsurface box (``|x1| <= L1/2``, ``|x2| <= L2/2``, ``x3 <= depth``).
         """
         pressure = self._record(step).pressure
-        points = np.asarray(points, dtype=float)
-        if points.ndim != 2 or points.shape[1] != 3:
+        points = check_finite_array(points, name="points", ndim=2)
+        if points.shape[1] != 3:
             raise ShapeError(f"points must have shape (n, 3), got {points.shape}")
         grid = self.grid
         depth = grid.depth if grid.depth is not None else 0.0

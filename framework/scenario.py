@@ -17,6 +17,7 @@ import os
 import numpy as np
 
 from . import materials
+from ._validation import check_bool, check_positive_int, check_real
 from .config import build
 from .errors import FrameworkError, ParameterError
 
@@ -28,8 +29,10 @@ except ModuleNotFoundError:  # Python 3.10
 TABLES = {"grid", "material", "indenter", "schedule", "options", "output"}
 REQUIRED = ("grid", "material", "indenter", "schedule")
 PRESETS = {"PMMA": lambda: materials.PMMA}
-OUTPUT_KEYS = {"vtu", "steps", "volume_steps", "single", "pictures", "history", "summary"}
+OUTPUT_KEYS = {"vtu", "steps", "volume_steps", "single", "pictures", "history"}
 PICTURE_KEYS = {"field", "step", "kind", "file"}
+#: Files a run writes itself: a picture must not take their names.
+RUN_FILES = {"summary.csv", "result.h5", "checkpoint.h5", "INCOMPLETE", "configuration.json"}
 
 
 class ScenarioError(FrameworkError, ValueError):
@@ -51,9 +54,14 @@ class Output:
     single : bool
         Volumes in float32 (half the size).
     pictures : tuple of dict
-        Off-screen pictures: ``{field, step=-1, kind="map", file=None}``.
+        Off-screen pictures: ``{field, step=-1, kind="map", file=None}``; ``file``
+        is a ``.png`` file name inside the output folder (no folder part).
     history : tuple of str
         Series for ``history.png`` (empty: no plot).
+
+    The names of fields, kinds and series are the ones :mod:`viz` draws; the
+    command line checks them against viz before it runs (``framework`` itself
+    does not import viz).
     """
 
     vtu: bool = True
@@ -85,17 +93,12 @@ def _times(value, name):
         spacing = value.get("spacing", "geometric")
         if spacing not in ("geometric", "linear"):
             raise ParameterError(f"{name}.spacing: expected 'geometric' or 'linear', got {spacing!r}")
-        if not isinstance(value["count"], int) or value["count"] < 1:
-            raise ParameterError(f"{name}.count: expected an integer >= 1, got {value['count']!r}")
-        space = np.geomspace if spacing == "geometric" else np.linspace
-        try:
-            times = space(float(value["start"]), float(value["stop"]), value["count"])
-        except (TypeError, ValueError) as exc:
-            raise ParameterError(f"{name}: start and stop must be numbers (> 0 for geometric), got "
-                                 f"{value['start']!r} and {value['stop']!r}") from exc
-        if not np.all(np.isfinite(times)):
-            raise ParameterError(f"{name}: geometric spacing needs start and stop > 0, got {value['start']!r}")
-        return np.concatenate([[0.0], times]) if value.get("zero", False) else times
+        count = check_positive_int(value["count"], name=f"{name}.count")
+        start, stop = (check_real(value[key], name=f"{name}.{key}") for key in ("start", "stop"))
+        if spacing == "geometric" and min(start, stop) <= 0:
+            raise ParameterError(f"{name}: geometric spacing needs start and stop > 0, got {start!r} and {stop!r}")
+        times = (np.geomspace if spacing == "geometric" else np.linspace)(start, stop, count)
+        return np.concatenate([[0.0], times]) if check_bool(value.get("zero", False), name=f"{name}.zero") else times
     return value
 
 
@@ -131,6 +134,10 @@ def _output(table):
     pictures = table.get("pictures", [])
     if not isinstance(pictures, list):
         raise ParameterError(f"output.pictures: expected a list of tables, got {type(pictures).__name__}")
+    history = table.get("history", list(Output.history))
+    if not isinstance(history, list) or not all(isinstance(h, str) for h in history):
+        raise ParameterError(f"output.history: expected a list of series names, got {history!r}")
+    names = {"history.png": "output.history"} if history else {}
     for i, picture in enumerate(pictures):
         if not isinstance(picture, dict) or "field" not in picture:
             raise ParameterError(f"output.pictures[{i}]: expected a table with a 'field', got {picture!r}")
@@ -138,24 +145,37 @@ def _output(table):
         if unknown:
             raise ParameterError(f"output.pictures[{i}]: unknown key(s) {sorted(unknown)}; expected some of "
                                  f"{sorted(PICTURE_KEYS)}")
+        for key in ("field", "kind"):
+            if not isinstance(picture.get(key, ""), str):
+                raise ParameterError(f"output.pictures[{i}].{key}: expected a name, got {picture[key]!r}")
+        name = picture_file(picture)
+        where = f"output.pictures[{i}].file"
+        if not isinstance(name, str) or not name.endswith(".png") or os.path.basename(name) != name \
+                or "\\" in name or name.startswith("."):
+            raise ParameterError(f"{where}: expected a .png file name inside the output folder (no folder part), "
+                                 f"got {name!r}")
+        if name in names or name in RUN_FILES:
+            raise ParameterError(f"{where}: {name!r} is already written by {names.get(name, 'the run')}; "
+                                 f"give each picture its own file name")
+        names[name] = f"output.pictures[{i}]"
     for key in ("steps", "volume_steps"):
         steps = table.get(key, "all")
-        if steps != "all" and not (isinstance(steps, list) and all(isinstance(s, int) for s in steps)):
+        if steps != "all" and not (isinstance(steps, list)
+                                   and all(isinstance(s, int) and not isinstance(s, bool) for s in steps)):
             raise ParameterError(f"output.{key}: expected \"all\" or a list of step indices, got {steps!r}")
-    for key in ("vtu", "summary", "single"):
-        if key in table and not isinstance(table[key], bool):
-            raise ParameterError(f"output.{key}: expected true or false, got {table[key]!r}")
-    history = table.get("history", list(Output.history))
-    if not isinstance(history, list) or not all(isinstance(h, str) for h in history):
-        raise ParameterError(f"output.history: expected a list of series names, got {history!r}")
-    return Output(vtu=table.get("vtu", True), steps=table.get("steps", "all"),
-                  volume_steps=table.get("volume_steps", "all"), single=table.get("single", False),
-                  pictures=tuple(pictures), history=tuple(history))
+    flags = {key: check_bool(table.get(key, getattr(Output, key)), name=f"output.{key}") for key in ("vtu", "single")}
+    return Output(steps=table.get("steps", "all"), volume_steps=table.get("volume_steps", "all"),
+                  pictures=tuple(pictures), history=tuple(history), **flags)
+
+
+def picture_file(picture):
+    """File name of a picture of ``[output]``: its ``file``, or ``<field>_<kind>.png``."""
+    return picture.get("file") or f"{picture['field']}_{picture.get('kind', 'map')}.png"
 
 
 def parse(data, source="<scenario>"):
     """A :class:`Scenario` from the parsed TOML tables ``data``."""
-    from .simulation import Simulation
+    from .simulation import Options, Simulation
     try:
         unknown = set(data) - TABLES
         if unknown:
@@ -180,7 +200,10 @@ def parse(data, source="<scenario>"):
             if key in schedule:
                 schedule[key] = build(schedule[key], name=f"schedule.{key}")  # numbers and lists pass through
         schedule = build(schedule, name="schedule")
-        options = data.get("options")
+        try:
+            options = Options.from_value(data.get("options"))
+        except ParameterError as exc:
+            raise ParameterError(f"options: {exc}") from exc
         output = _output(data.get("output", {}))
         total = len(schedule.times)
         for key in ("steps", "volume_steps"):
@@ -190,23 +213,37 @@ def parse(data, source="<scenario>"):
                                      f"{total} output times, got {steps!r}")
         for i, picture in enumerate(output.pictures):
             step = picture.get("step", -1)
-            if not isinstance(step, int) or not -total <= step < total:
+            if not isinstance(step, int) or isinstance(step, bool) or not -total <= step < total:
                 raise ParameterError(f"output.pictures[{i}].step: expected an index in [-{total}, {total}), "
                                      f"got {step!r}")
         simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
                                 options=options)
-    except ParameterError as exc:
+    except FrameworkError as exc:  # a bad value, a HeightMap's shape, an offset the body cannot carry
         raise ScenarioError(f"{source}: {exc}") from exc
     return Scenario(simulation=simulation, output=output, source=source)
 
 
 def read(path, cells=None):
-    """Read and check a scenario file; ``cells`` replaces the grid's shape by ``cells x cells``."""
+    """Read and check a scenario file; ``cells`` replaces the grid's shape by ``cells x cells``.
+
+    The file is UTF-8 text (a byte-order mark is accepted and dropped).
+    """
+    if os.path.isdir(path):
+        raise ScenarioError(f"{path}: is a folder, not a scenario file")
     if not os.path.isfile(path):
         raise ScenarioError(f"{path}: no such scenario file")
     try:
         with open(path, "rb") as f:
-            data = tomllib.load(f)
+            raw = f.read()
+    except OSError as exc:
+        raise ScenarioError(f"{path}: cannot be read: {exc.strerror}") from exc
+    try:
+        text = raw.decode("utf-8-sig")  # drops a byte-order mark, which TOML itself refuses
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{path}: not a UTF-8 text file (byte {raw[exc.start]:#04x} at offset {exc.start}); "
+                            f"a scenario is TOML text") from exc
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{path}: not valid TOML: {exc}") from exc
     if cells is not None and isinstance(data.get("grid"), dict):

@@ -4,22 +4,35 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import loads
-from ._validation import check_finite_array
+from ._validation import LIMITS, check_finite_array
 from .errors import ParameterError
 
+UNITS = {"load": "N", "approach": "m"}
 
-def _as_history(value, times, name):
-    if isinstance(value, loads.History):
-        return value
-    array = np.atleast_1d(np.asarray(value, dtype=float)) if not isinstance(value, str) else None
-    if array is None or array.ndim != 1:
-        raise ParameterError(f"{name} must be a number, a sequence of numbers or a loads history, got {value!r}")
-    if array.size == 1:
-        return loads.Step(float(array[0]))
-    if times is None or len(times) != array.size:
-        raise ParameterError(f"{name} has {array.size} values but times has "
-                             f"{'no' if times is None else len(times)} entries; give one time per value")
-    return loads.Table(times=times, values=array)
+
+def _values(value, name):
+    """The numbers of a load or approach given as a number or a sequence, checked."""
+    expected = f"{name} must be a number, a sequence of numbers or a loads history"
+    if isinstance(value, (bool, np.bool_, str, bytes, dict)):
+        raise ParameterError(f"{expected}, got {value!r}")
+    try:
+        array = np.atleast_1d(np.asarray(value, dtype=float))
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{expected}, got {value!r}") from exc
+    if array.ndim != 1:
+        raise ParameterError(f"{expected}, got {value!r}")
+    if array.size == 0:
+        raise ParameterError(f"{name} is empty: give a number, one value per time or a loads history")
+    return check_finite_array(array, name=name)
+
+
+def _as_history(values, times, name):
+    if values.size == 1:
+        return loads.Step(float(values[0]))
+    if len(times) != values.size:
+        raise ParameterError(f"{name} has {values.size} values but times has {len(times)} entries; "
+                             f"give one time per value")
+    return loads.Table(times=times, values=values)
 
 
 @dataclass(frozen=True)
@@ -36,6 +49,9 @@ class Static:
     times : array_like, optional
         Output times [s], strictly increasing, >= 0. Default: ``0, 1, 2, ...``
         one per value of a sequence, or ``[0]`` for a constant.
+
+    Times lie within ``framework._validation.LIMITS`` (0 or 1e-15 to 1e15 s),
+    the load below 1e12 N and the approach below 1e6 m.
     """
 
     load: object = None
@@ -46,20 +62,27 @@ class Static:
         if (self.load is None) == (self.approach is None):
             raise ParameterError(f"give exactly one of load and approach, got load={self.load!r}, "
                                  f"approach={self.approach!r}")
+        control = self.control
         value = self.load if self.load is not None else self.approach
+        values = None if isinstance(value, loads.History) else _values(value, control)
         times = self.times
         if times is None:
-            size = 1 if isinstance(value, loads.History) else np.size(value)
-            times = np.arange(size, dtype=float)
+            times = np.arange(1 if values is None else values.size, dtype=float)
         times = check_finite_array(times, name="times", ndim=1)
         if times.size == 0:
             raise ParameterError("times must hold at least one time, got an empty array")
         loads.check_increasing(times, name="times")
-        history = _as_history(value, times, self.control)
+        history = value if values is None else _as_history(values, times, control)
         probe = np.concatenate([times, np.asarray(history.jumps + history.kinks, dtype=float)])
-        values = np.concatenate([history(probe), history.left(probe)])
+        values = np.concatenate([history(probe), history.left(probe)])  # each value and its left limit
+        probe = np.concatenate([probe, probe])
         if np.any(values < 0):
-            raise ParameterError(f"{self.control} must be >= 0 at every time, got {float(values[values < 0][0])!r}")
+            raise ParameterError(f"{control} must be >= 0 at every time, got {float(values[values < 0][0])!r}")
+        unit, largest = UNITS[control], LIMITS[UNITS[control]][1]
+        if np.any(values > largest):
+            k = int(np.argmax(values > largest))
+            raise ParameterError(f"{control} must stay below {largest:g} {unit}, the range this framework accepts, "
+                                 f"got {float(values[k])!r} {unit} at t = {float(probe[k]):g} s")
         object.__setattr__(self, "times", times)
         object.__setattr__(self, "history", history)
 

@@ -21,12 +21,14 @@ warm-started from the previous pressure. ``C_eff`` is the mean of ``C*`` over
 (Chen et al. 2011; seed 001) is kept as :class:`HereditarySum`, the reference
 the recursion is tested against (``options={"history": "hereditary"}``).
 """
+import math
 import sys
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import schedules
+from . import loads, schedules
+from ._validation import check_bool, check_positive_int
 from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
 from .indenters import Indenter
@@ -56,6 +58,9 @@ class Options:
     history: str = "recursive"
 
     def __post_init__(self):
+        if not isinstance(self.solver, SolverOptions):
+            raise ParameterError(f"solver must be a SolverOptions, got {self.solver!r}")
+        object.__setattr__(self, "check_edges", check_bool(self.check_edges, name="check_edges"))
         if self.history not in ("recursive", "hereditary"):
             raise ParameterError(f"history must be 'recursive' or 'hereditary', got {self.history!r}")
 
@@ -180,18 +185,47 @@ class HereditarySum:
         self.times, self.pressures = list(snapshot["times"]), list(snapshot["pressures"])
 
 
-def _stations(schedule):
-    """``(time, value, recorded)``: the output times, the kinks and both sides of every jump."""
+#: The most time steps a run may take: beyond it a schedule is a mistake (e.g. a 1 ms period over a year).
+MAX_STATIONS = 1_000_000
+
+
+def _stations(schedule, refine=True):
+    """``(time, value, recorded)``: the output times, the kinks and both sides of every jump.
+
+    With ``refine`` (a material with memory), every gap between them that lies
+    in an interval of the history's ``resolution`` is split into equal steps
+    no longer than its ``max_step`` (unrecorded stations).
+    """
     history, times = schedule.history, schedule.times
     last = times[-1]
     jumps = {float(t) for t in history.jumps if t <= last}
     kinks = {float(t) for t in history.kinks if 0 < t <= last}
     outputs = {float(t) for t in times}
+    limits = [(start, min(end, last), step) for start, end, step in history.resolution
+              if start < min(end, last)] if refine else []
+    keys = sorted(outputs | jumps | kinks | {t for start, end, _ in limits for t in (start, end)})
+
+    def pieces(a, b):  # equal steps no longer than the finest max_step of the intervals holding [a, b]
+        step = min((h for start, end, h in limits if start <= a and b <= end), default=None)
+        return 1 if step is None else math.ceil((b - a) / step)
+
+    splits = [pieces(a, b) for a, b in zip(keys, keys[1:])]
+    count = len(keys) + len(jumps) + sum(splits) - len(splits)
+    if count > MAX_STATIONS:
+        raise ParameterError(
+            f"the schedule needs {count} time steps up to t = {last:g} s (a sine history is followed with "
+            f"{loads.STATIONS_PER_PERIOD} steps per period), more than {MAX_STATIONS}: shorten the times or "
+            f"lengthen the period")
+    inner = {a + (b - a) * k / n for a, b, n in zip(keys, keys[1:], splits) for k in range(1, n)}
+    every = np.array(sorted(set(keys) | inner))
     stations = []
-    for t in sorted(outputs | jumps | kinks):
-        if t in jumps:
-            stations.append((t, float(history.left(t)), False))
-        stations.append((t, float(history(t)), t in outputs))
+    for t, value in zip(every.tolist(), history(every).tolist()):
+        before = float(history.left(t)) if t in jumps else value
+        # both sides of a jump: a step of zero duration between them (a jump to the same value is none; the
+        # left limit is taken a hair before t, so a steep ramp's left limit differs from its value by rounding)
+        if not math.isclose(before, value, rel_tol=1e-9):
+            stations.append((t, before, False))
+        stations.append((t, value, t in outputs))
     return stations
 
 
@@ -212,6 +246,15 @@ class Simulation:
         Inhomogeneities (not available yet: must be None).
     options : dict or Options, optional
         Solver tolerances and run choices (see :class:`Options`).
+
+    Raises
+    ------
+    ParameterError, ShapeError, LoadNotCarriedError
+        At construction, before any step, for everything the parts cannot
+        check alone: fewer than 3 cells along a non-periodic axis, a HeightMap
+        of another shape than the grid, an offset the body cannot carry, a
+        sudden change of load on a Kelvin-Voigt solid, more than
+        :data:`MAX_STATIONS` time steps.
     """
 
     def __init__(self, grid, material, indenter, schedule, inclusions=None, options=None):
@@ -228,6 +271,34 @@ class Simulation:
         self.grid, self.material, self.indenter, self.schedule = grid, material, indenter, schedule
         self.options = Options.from_value(options)
         self.result = None
+        self._check()
+
+    def _check(self):
+        """Everything a run needs that the parts cannot check alone: found here, before any step."""
+        grid, schedule = self.grid, self.schedule
+        for axis, (cells, periodic) in enumerate(zip(grid.shape, grid.periodic)):
+            if not periodic and cells < 3:
+                raise ParameterError(
+                    f"grid: shape[{axis}] must be >= 3 along the non-periodic axis x{axis + 1} (on a narrower grid "
+                    f"every cell lies on the edge, where the half-space ends, so no contact can stay inside), got "
+                    f"{cells}; use tens of cells to resolve a contact, or make the axis periodic")
+        try:
+            self._heights = self.indenter.on_grid(grid)
+        except MemoryError as exc:
+            raise ParameterError(f"grid: {grid.shape[0]} x {grid.shape[1]} cells do not fit in memory") from exc
+        self._series = series = self.material.contact_compliance()
+        offset = getattr(schedule, "offset", None)
+        if offset is not None:
+            _check_offset(offset, self.indenter.reach(grid), grid.coordinates())
+        memory = len(series.terms) > 0 or series.flow > 0
+        self._timeline = stations = _stations(schedule, refine=memory)
+        if series.c0 <= 0:
+            for (time, before, _), (later, after, _) in zip(stations, stations[1:]):
+                if later == time and after != before:
+                    raise ParameterError(
+                        f"the material has no instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, a Kelvin-Voigt "
+                        f"solid): the {schedule.control} cannot change suddenly, as it does at t = {time:g} s "
+                        f"(from {before:g} to {after:g}); use a Ramp or a Table that starts from zero")
 
     def steps(self, state=None):
         """Run step by step, yielding a :class:`StepRecord` at every output time.
@@ -235,9 +306,8 @@ class Simulation:
         ``state`` (from a checkpoint) continues a run where it stopped.
         """
         grid, options = self.grid, self.options
-        heights = self.indenter.on_grid(grid)
+        heights, series = self._heights, self._series
         operator = SurfaceCompliance(grid)
-        series = self.material.contact_compliance()
         integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         self._integrator, start, index = integrator, 0, 0
         if state is not None:
@@ -246,17 +316,10 @@ class Simulation:
         load_control = self.schedule.control == "load"
         offset = getattr(self.schedule, "offset", None)
         coordinates = grid.coordinates() if offset is not None else None
-        if offset is not None:
-            _check_offset(offset, self.indenter.reach(grid), coordinates)
-        for number, (time, value, recorded) in enumerate(_stations(self.schedule)):
+        for number, (time, value, recorded) in enumerate(self._timeline):
             if number < start:
                 continue
             compliance, memory = integrator.prepare(time)
-            if compliance <= 0 and (value > 0 or integrator.pressure.any()):
-                raise ParameterError(
-                    f"the material has no instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, a Kelvin-Voigt "
-                    f"solid): the {self.schedule.control} cannot change suddenly at t = {time:g} s; "
-                    f"use a Ramp or a Table that starts from zero")
             history_displacement = 0.0 if memory is None else operator.apply(memory)
             solution = solve_normal(
                 lambda p: compliance * operator.apply(p), heights + history_displacement,
@@ -283,7 +346,8 @@ class Simulation:
         Parameters
         ----------
         progress : bool
-            Print one line per step (the same line on a terminal).
+            Print one line per step (the same line on a terminal), ``step k/last``
+            with the 0-based step index of ``Result`` and the exported files.
         callback : callable, optional
             ``callback(result, record)`` after each finished step (e.g. to write
             it to disk at once).
@@ -304,9 +368,7 @@ class Simulation:
         ``exc.partial_result`` (also kept in ``self.result``).
         """
         from . import io
-        from ._validation import check_positive_int
-        if not isinstance(progress, bool):
-            raise ParameterError(f"progress must be True or False, got {progress!r}")
+        progress = check_bool(progress, name="progress")
         if callback is not None and not callable(callback):
             raise ParameterError(f"callback must be callable as callback(result, record) or None, got {callback!r}")
         every = check_positive_int(every, name="every (steps between checkpoints)")
@@ -334,7 +396,7 @@ class Simulation:
                 if checkpoint is not None and len(result) % every == 0:
                     save()
                 if progress:
-                    print(f"step {record.index + 1}/{total}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
+                    print(f"step {record.index}/{total - 1}  t = {record.time:.4g} s  load = {record.load:.4g} N  "
                           f"approach = {record.approach:.4g} m  iterations = {record.iterations}", end=end, flush=True)
             if checkpoint is not None and hasattr(self, "_position"):
                 save()
@@ -365,7 +427,7 @@ class Simulation:
                                  f"state: it is a saved result, not a checkpoint (run(checkpoint=...) writes one)")
         for record in records:
             result.append(record)
-        if state is None or int(state["station"]) >= len(_stations(self.schedule)):
+        if state is None or int(state["station"]) >= len(self._timeline):
             return None
         return state
 

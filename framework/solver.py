@@ -14,7 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ConvergenceError, LoadNotCarriedError
+from ._validation import check_bool, check_positive_int, check_real
+from .errors import ConvergenceError, LoadNotCarriedError, ParameterError
+
+#: The smallest tolerance a solve can meet: relative changes below it are round-off in double precision.
+SMALLEST_TOLERANCE = 1e-15
 
 
 @dataclass(frozen=True)
@@ -24,12 +28,14 @@ class SolverOptions:
     Parameters
     ----------
     tolerance : float
-        Relative L1 change of the pressure between two iterations.
+        Relative L1 change of the pressure between two iterations, in
+        ``[SMALLEST_TOLERANCE, 1)`` (a smaller one cannot be met in double precision).
     residual_tolerance : float
         Complementarity residual: the largest gap in the contact set and the
-        largest interpenetration outside it, relative to the largest displacement.
+        largest interpenetration outside it, relative to the largest displacement;
+        in ``[SMALLEST_TOLERANCE, 1)``.
     max_iterations : int
-        Iterations before the solve is declared stalled.
+        Iterations before the solve is declared stalled, >= 1.
     raise_on_failure : bool
         Raise :class:`ConvergenceError` when the solve does not converge (else
         return the result with ``success = False``).
@@ -39,6 +45,16 @@ class SolverOptions:
     residual_tolerance: float = 1e-6
     max_iterations: int = 2000
     raise_on_failure: bool = True
+
+    def __post_init__(self):
+        for name in ("tolerance", "residual_tolerance"):
+            value = check_real(getattr(self, name), name=name)
+            if not SMALLEST_TOLERANCE <= value < 1.0:
+                raise ParameterError(f"{name} must lie in [{SMALLEST_TOLERANCE:g}, 1) (a relative error; smaller "
+                                     f"ones are round-off in double precision), got {value!r}")
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "max_iterations", check_positive_int(self.max_iterations, name="max_iterations"))
+        object.__setattr__(self, "raise_on_failure", check_bool(self.raise_on_failure, name="raise_on_failure"))
 
 
 @dataclass

@@ -84,7 +84,7 @@ def stray_files(*folders):
     ({"resume": "FOLDER/missing.h5"}, r"resume: no result file at '.*missing.h5'"),
     ({"resume": "FOLDER/notes.txt"}, r"resume: '.*notes.txt' is not a readable HDF5 file"),
     ({"resume": 3.0}, r"resume must be a file path \(a non-empty str or os.PathLike\), got 3.0"),
-    ({"progress": "yes"}, r"progress must be True or False, got 'yes'"),
+    ({"progress": "yes"}, r"progress must be a boolean, true or false, got 'yes'"),
     ({"callback": 3}, r"callback must be callable as callback\(result, record\) or None, got 3"),
 ])
 def test_run_checks_its_arguments_before_the_first_step(tmp_path, monkeypatch, arguments, message):

@@ -99,3 +99,175 @@ def test_a_run_that_fails_midway_is_marked_incomplete(tmp_path):
     assert completed.returncode == 2 and "grid edge" in completed.stderr
     names = set(os.listdir(tmp_path / "out"))
     assert "INCOMPLETE" in names and "summary.csv" in names and "surface.pvd" in names
+
+
+# --------------------------------------------------------------------------- the command line, in process
+
+def main_in_process(capsys, *args):
+    """Exit code, stdout and stderr of ``python -m framework ARGS`` run in this process."""
+    from framework.__main__ import main
+    try:
+        code = main(list(args))
+    except SystemExit as exc:  # argparse
+        code = exc.code
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def refused(capsys, tmp_path, text, message, *extra, command="run"):
+    """``check`` and ``run`` both refuse the file with one line naming the problem; run writes nothing."""
+    path = tmp_path / "bad.toml"
+    path.write_bytes(text) if isinstance(text, bytes) else path.write_text(text)
+    out = tmp_path / "out"
+    for args in (["check", str(path)], [command, str(path), "--out", str(out), "--quiet", *extra]):
+        code, _, err = main_in_process(capsys, *args)
+        assert code == 2 and err.startswith("error: ") and len(err.strip().splitlines()) == 1, err
+        import re
+        assert re.search(message, err), err
+        assert not out.exists()
+
+
+SLICE = GOOD + "[output]\npictures = [{ field = 'von_mises', kind = 'slice' }]\n"
+
+
+@pytest.mark.parametrize("text, message", [
+    (GOOD + "[output]\npictures = [{ field = 'presure' }]\n",
+     r"output.pictures\[0\].field: expected one of \['pressure', 'displacement', 'gap', 'contact'\] for kind "
+     r"'map', got 'presure'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', kind = 'contour' }]\n",
+     r"output.pictures\[0\].kind: expected one of \['map', 'slice', 'surface'\], got 'contour'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', kind = 'slice' }]\n",
+     r"output.pictures\[0\].field: expected one of \['von_mises', .*for kind 'slice', got 'pressure'"),
+    (SLICE, r"output.pictures\[0\]: a slice shows subsurface stresses, which need \[grid\] layers .*got layers = 0"),
+    (SLICE.replace("size = [1e-3, 1e-3]", "size = [1e-3, 1e-3]\ndepth = 1e-3\nlayers = 4\nperiodic = [true, false]"),
+     r"a slice shows subsurface stresses.*periodic = \[True, False\]"),
+    (GOOD + "[output]\npictures = [{ field = 3 }]\n", r"output.pictures\[0\].field: expected a name, got 3"),
+    (GOOD + "[output]\nhistory = ['radius', 'load']\n",
+     r"output.history: unknown series \['radius'\]; expected some of \['load', 'approach'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = '/tmp/pressure.png' }]\n",
+     r"output.pictures\[0\].file: expected a .png file name inside the output folder \(no folder part\), got "
+     r"'/tmp/pressure.png'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = '../pressure.png' }]\n",
+     r"output.pictures\[0\].file: expected a .png file name inside .*got '../pressure.png'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = 'maps/pressure.png' }]\n",
+     r"output.pictures\[0\].file: .*got 'maps/pressure.png'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = '..' }]\n", r"output.pictures\[0\].file: .*got '..'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = 'result.h5' }]\n",
+     r"output.pictures\[0\].file: .*got 'result.h5'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = 7 }]\n", r"output.pictures\[0\].file: .*got 7"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', file = 'history.png' }]\n",
+     r"output.pictures\[0\].file: 'history.png' is already written by output.history"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure' }, { field = 'pressure', step = 0 }]\n",
+     r"output.pictures\[1\].file: 'pressure_map.png' is already written by output.pictures\[0\]"),
+    (GOOD + "[output]\nvtu = 'yes'\n", r"output.vtu must be a boolean, true or false, got 'yes'"),
+    (GOOD + "[output]\npictures = [{ field = 'pressure', step = true }]\n",
+     r"output.pictures\[0\].step: expected an index in \[-1, 1\), got True"),
+    (GOOD + "[output]\nsummary = false\n", r"output: unknown key\(s\) \['summary'\]"),
+    (GOOD + "[output]\nsteps = [true]\n", r"output.steps: expected \"all\" or a list of step indices, got \[True\]"),
+    (GOOD + "[options]\ntolerance = 0.0\n", r"bad.toml: options: tolerance must lie in \[1e-15, 1\)"),
+    (GOOD + "[options]\nmax_iterations = -1\n", r"options: max_iterations must be an integer >= 1, got -1"),
+    (GOOD + "[options]\ncheck_edges = 'no'\n", r"options: check_edges must be a boolean, true or false, got 'no'"),
+    (GOOD + "[options]\ntolerence = 1e-6\n", r"options: unknown option\(s\) \['tolerence'\]"),
+    (GOOD.replace("shape = [16, 16]", "shape = [1, 1]"), r"grid: shape\[0\] must be >= 3 along the non-periodic"),
+    (GOOD.replace("shape = [16, 16]", "shape = [16, 16]\nlayers = 4"), r"depth is missing: layers = 4"),
+    (GOOD.replace("load = 1.0", "load = 1.0\ntype = 'Eccentric'\noffset = [0.4e-3, 0.0]")
+     .replace("type = \"Sphere\"\nradius = 5e-3", "type = \"FlatPunch\"\nradius = 1e-4"),
+     r"bad.toml: offset \(0.0004, 0.0\) m lies outside the area the indenter can touch"),
+    (GOOD.replace("type = \"Sphere\"\nradius = 5e-3", "type = \"HeightMap\"\nheights = [[0.0, 0.0], [0.0, 0.0]]"),
+     r"bad.toml: heights has shape \(2, 2\), the grid has shape \(16, 16\)"),
+    (GOOD.replace("load = 1.0", "load = []"), r"schedule: load is empty"),
+    (GOOD.replace("load = 1.0", "load = [1.0, 'a']"), r"schedule: load must be a number, a sequence of numbers"),
+    (GOOD.replace("load = 1.0", "load = { value = 1.0 }"), r"schedule: load must be a number, .*got \{'value': 1.0\}"),
+    (GOOD.replace("load = 1.0", "load = 1.0\ntimes = { start = 0.1, stop = 1, count = 3, zero = 'no' }"),
+     r"schedule.times.zero must be a boolean, true or false, got 'no'"),
+    (GOOD.replace("load = 1.0", "load = 1.0\ntimes = { start = 0.1, stop = 1, count = true }"),
+     r"schedule.times.count must be an integer >= 1, got True"),
+    (GOOD.replace("load = 1.0", "load = 1.0\ntimes = { start = 0.0, stop = 1, count = 3 }"),
+     r"schedule.times: geometric spacing needs start and stop > 0, got 0.0 and 1.0"),
+    (GOOD.replace("radius = 5e-3", "radius = 5e300"), r"indenter: radius must lie between 1e-12 and 1e\+06 m"),
+    (GOOD.replace("radius = 5e-3", "radius = 5e-3\nexact = 'no'"), r"indenter: exact must be a boolean"),
+    (GOOD.replace("young = 1e9", "young = 1e-300"), r"material: young must lie between 0.001 and 1e\+15 Pa"),
+    (b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe", r"bad.toml: not a UTF-8 text file \(byte 0x89 at offset 0\)"),
+    (GOOD.encode("utf-16"), r"not a UTF-8 text file \(byte 0xff at offset 0\)"),
+    ("[grid]\nshape = [16, 16]\x00", r"not valid TOML"),
+])
+def test_check_refuses_what_run_would_refuse(capsys, tmp_path, text, message):
+    """Each of these passed `check` (or gave a traceback) and failed in `run`, some after writing result.h5."""
+    refused(capsys, tmp_path, text, message)
+
+
+def test_a_byte_order_mark_is_accepted(capsys, tmp_path):
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + GOOD.encode())
+    code, out, err = main_in_process(capsys, "check", str(path))
+    assert code == 0 and "ok (1 steps on a (16, 16) grid)" in out, err
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--every", "0"], r"error: argument --every: expected an integer >= 1, got '0' \(see python -m framework run -h\)"),
+    (["--every", "-2"], r"argument --every: expected an integer >= 1, got '-2'"),
+    (["--every", "ten"], r"argument --every: expected an integer >= 1, got 'ten'"),
+    (["--cells", "1"], r"argument --cells: expected an integer >= 3, got '1'"),
+    (["--cells", "0"], r"argument --cells: expected an integer >= 3, got '0'"),
+    (["--frobnicate"], r"error: unrecognized arguments: --frobnicate"),
+])
+def test_bad_command_line_arguments(capsys, tmp_path, args, message):
+    path = tmp_path / "good.toml"
+    path.write_text(GOOD)
+    out = tmp_path / "out"
+    code, _, err = main_in_process(capsys, "run", str(path), "--out", str(out), *args)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    import re
+    assert re.search(message, err), err
+    assert not out.exists()
+
+
+def test_no_command_and_unknown_command(capsys):
+    for args in ([], ["frobnicate"]):
+        code, _, err = main_in_process(capsys, *args)
+        assert code == 2 and err.startswith("error: ") and len(err.strip().splitlines()) == 1, err
+
+
+def test_scenario_path_that_is_a_folder(capsys, tmp_path):
+    code, _, err = main_in_process(capsys, "check", str(tmp_path))
+    assert code == 2 and err.strip() == f"error: {tmp_path}: is a folder, not a scenario file"
+
+
+def test_out_that_cannot_hold_results(capsys, tmp_path, monkeypatch):
+    path = tmp_path / "good.toml"
+    path.write_text(GOOD + "[output]\nvtu = false\nhistory = []\n")
+    a_file = tmp_path / "taken"
+    a_file.write_text("not a folder")
+    cases = [(a_file, r"--out '.*taken' is a file; expected a folder for the results"),
+             (a_file / "sub", r"--out '.*taken/sub': cannot write the results there \(Not a directory\)")]
+    for out, message in cases:
+        code, _, err = main_in_process(capsys, "run", str(path), "--out", str(out), "--quiet")
+        import re
+        assert code == 2 and len(err.strip().splitlines()) == 1 and re.search(message, err), err
+    assert a_file.read_text() == "not a folder"
+    # a read-only folder (chmod does not stop root, so the permission test is simulated)
+    monkeypatch.setattr(os, "access", lambda *args: False)
+    out = tmp_path / "readonly"
+    out.mkdir()
+    code, _, err = main_in_process(capsys, "run", str(path), "--out", str(out), "--quiet")
+    assert code == 2 and re.search(r"--out '.*readonly': cannot write the results there \(Permission denied\)", err)
+    assert os.listdir(out) == []
+
+
+def test_run_summary_table_and_numbering(capsys, tmp_path):
+    """One 0-based numbering (progress, table, file names), a '...' row where rows are skipped, files by kind."""
+    path = tmp_path / "steps.toml"
+    path.write_text(GOOD.replace("load = 1.0", "load = 1.0\ntimes = { start = 1, stop = 14, count = 14, "
+                                 "spacing = 'linear' }") + "[output]\nhistory = []\n")
+    code, out, err = main_in_process(capsys, "run", str(path), "--out", str(tmp_path / "out"))
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0].startswith("step 0/13  t = 1 s") and lines[13].startswith("step 13/13  t = 14 s")
+    header = next(i for i, line in enumerate(lines) if "time s" in line)
+    rows = [line.split()[0] for line in lines[header + 1:header + 14]]
+    assert rows == ["0", "1", "2", "3", "4", "5", "...", "8", "9", "10", "11", "12", "13"]
+    assert "14 steps (0 to 13)" in out and "wrote 33 files" in out
+    names = set(os.listdir(tmp_path / "out"))
+    assert {"surface_0000.vtu", "surface_0013.vtu"} <= names and "surface_0014.vtu" not in names
+    assert " 14  surface_NNNN.vtu" in out and "  1  result.h5" in out
+    assert len(out.splitlines()) < 40  # no list of every file

@@ -86,5 +86,7 @@ class ComplianceSeries:
         times = self.times
         if not self.linear_steps:
             return np.exp(-dt / times)
-        return np.where(dt > 0, times / max(dt, 1e-300) * -np.expm1(-dt / times), 1.0)
+        if dt <= 0:  # the limit; lambda / dt itself would overflow
+            return np.ones_like(times)
+        return times / dt * -np.expm1(-dt / times)
 

@@ -3,7 +3,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_poisson, check_positive
+from .._validation import check_poisson, check_quantity
 from .base import ComplianceSeries
 
 
@@ -14,7 +14,7 @@ class Elastic:
     Parameters
     ----------
     young : float
-        Young's modulus [Pa].
+        Young's modulus [Pa], between 1e-3 and 1e15 (``framework._validation.LIMITS``).
     poisson : float
         Poisson ratio, in (-1, 0.5].
     """
@@ -23,7 +23,7 @@ class Elastic:
     poisson: float
 
     def __post_init__(self):
-        object.__setattr__(self, "young", check_positive(self.young, name="young", unit="Pa"))
+        object.__setattr__(self, "young", check_quantity(self.young, name="young", unit="Pa"))
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
 
     @property

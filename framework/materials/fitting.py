@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
-from .._validation import check_finite_array, check_poisson, check_positive, check_positive_int
+from .._validation import check_finite_array, check_poisson, check_positive_int, check_quantity
 from ..errors import ParameterError, ShapeError
 from .viscoelastic import Viscoelastic
 
@@ -85,7 +85,7 @@ def _time_grid(t, n_terms, times):
         if times.size == 0:
             raise ParameterError("times must hold at least one time [s], got an empty array")
         for i, value in enumerate(times):
-            check_positive(float(value), name=f"times[{i}]", unit="s")
+            check_quantity(float(value), name=f"times[{i}]", unit="s")
         if np.unique(times).size != times.size:
             raise ParameterError(f"times must be distinct, got {times.tolist()!r}")
         if n_terms is not None and check_positive_int(n_terms, name="n_terms") != times.size:

@@ -80,7 +80,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from .._validation import check_poisson, check_positive, check_real
+from .._validation import LIMITS, check_poisson, check_positive, check_quantity, check_real
 from ..errors import ParameterError
 from .base import ComplianceSeries
 
@@ -114,8 +114,8 @@ def _check_terms(terms, *, name, coefficient, unit, time):
         except (TypeError, ValueError) as exc:
             raise ParameterError(f"{name}[{i}] must be a ({coefficient} [{unit}], {time} [s]) pair, "
                                  f"got {term!r}") from exc
-        value = check_positive(value, name=f"{name}[{i}] {coefficient}", unit=unit)
-        tau = check_positive(tau, name=f"{name}[{i}] {time}", unit="s")
+        value = check_quantity(value, name=f"{name}[{i}] {coefficient}", unit=unit, lower=False)
+        tau = check_quantity(tau, name=f"{name}[{i}] {time}", unit="s")
         for j, (_, other) in enumerate(checked):
             if tau == other:
                 raise ParameterError(
@@ -126,6 +126,11 @@ def _check_terms(terms, *, name, coefficient, unit, time):
 
 
 # --------------------------------------------------------------------------- root finding
+
+def _rate(rate):
+    """A rate [1/s] and its time, for messages."""
+    return f"{rate!r} 1/s" + (f" (1/rate = {1 / rate:.6g} s)" if rate > 0 else "")
+
 
 def _interval_root(evaluate, derivative, left, right, left_sign):
     """Root of a rational function that changes sign once in ``(left, right)``.
@@ -139,6 +144,10 @@ def _interval_root(evaluate, derivative, left, right, left_sign):
     Returns ``(anchor, sign, delta)`` of the root.
     """
     middle = math.sqrt(left * right) if left > 0 else 0.5 * right
+    if not left < middle < right:  # the two poles are as close as rounding can tell: no room for a root
+        raise ParameterError(
+            f"a Prony term is too weak to resolve in double precision: a root lies within rounding of the rate "
+            f"{_rate(right)}; drop the negligible term")
     at_middle = evaluate(left, 1.0, middle - left)
     if at_middle == 0.0:
         return left, 1.0, middle - left
@@ -152,10 +161,10 @@ def _interval_root(evaluate, derivative, left, right, left_sign):
 
     low = -40.0
     while (in_log(low) > 0) != (end_sign > 0):
-        if low < -690.0:
+        if low < -320.0:  # the next try, exp(-1280), would underflow to a zero distance
             raise ParameterError(
                 f"a Prony term is too weak to resolve in double precision: a root lies within "
-                f"{width * math.exp(low):.3g} 1/s of the rate {anchor!r} 1/s; drop the negligible term")
+                f"{width * math.exp(low):.3g} 1/s of the rate {_rate(anchor)}; drop the negligible term")
         low *= 2.0
     u = brentq(in_log, low, 0.0, xtol=1e-14, rtol=4 * np.finfo(float).eps, maxiter=500)
     delta = width * math.exp(u)
@@ -258,6 +267,10 @@ class Viscoelastic:
     terms : sequence of (float, float)
         ``[(E_i [Pa], tau_i [s]), ...]``, moduli and relaxation times > 0, times
         distinct. Stored sorted by ascending ``tau_i``. May be empty (elastic).
+
+    Moduli lie between 1e-3 and 1e15 Pa (a term's modulus may be smaller: a term
+    too weak to resolve in double precision is refused by name) and times
+    between 1e-15 and 1e15 s (``framework._validation.LIMITS``).
     poisson : float
         Constant Poisson ratio in (-1, 0.5].
     """
@@ -274,7 +287,7 @@ class Viscoelastic:
             raise ParameterError(
                 f"e_inf must be positive [Pa], got {e_inf!r}; a material without a relaxed modulus is a "
                 f"fluid: use materials.Maxwell")
-        object.__setattr__(self, "e_inf", e_inf)
+        object.__setattr__(self, "e_inf", check_quantity(e_inf, name="e_inf", unit="Pa"))
         object.__setattr__(self, "terms",
                            _check_terms(self.terms, name="terms", coefficient="modulus", unit="Pa",
                                         time="relaxation time"))
@@ -321,9 +334,14 @@ class Viscoelastic:
             raise ParameterError(
                 f"j0 must be positive [1/Pa], got {j0!r}; a solid without instantaneous compliance has a "
                 f"relaxation modulus with a Dirac delta: use materials.KelvinVoigt")
+        j0 = check_quantity(j0, name="j0", unit="1/Pa")
         terms = _check_terms(terms, name="terms", coefficient="compliance", unit="1/Pa",
                              time="retardation time")
         check_poisson(poisson)
+        relaxed, largest = math.fsum([j0] + [j for j, _ in terms]), LIMITS["1/Pa"][1]
+        if relaxed > largest:
+            raise ParameterError(f"j0 plus the terms' compliances, J(inf) = 1/e_inf, must stay below {largest:g} 1/Pa, "
+                                 f"the range this framework accepts, got {relaxed!r}")
         e_inf, relaxation = _creep_to_relaxation(j0, terms)
         material = cls(e_inf=e_inf, terms=relaxation, poisson=poisson)
         object.__setattr__(material, "_j0", j0)
@@ -416,8 +434,8 @@ def StandardLinearSolid(e_inf, e_1, tau, poisson):  # noqa: N802 - a named mater
     Viscoelastic
         The one-term material.
     """
-    e_1 = check_positive(e_1, name="e_1", unit="Pa")
-    tau = check_positive(tau, name="tau", unit="s")
+    e_1 = check_quantity(e_1, name="e_1", unit="Pa")
+    tau = check_quantity(tau, name="tau", unit="s")
     return Viscoelastic.from_prony(e_inf=e_inf, terms=[(e_1, tau)], poisson=poisson)
 
 
@@ -444,9 +462,9 @@ class Maxwell:
     poisson: float
 
     def __post_init__(self):
-        object.__setattr__(self, "young", check_positive(self.young, name="young", unit="Pa"))
+        object.__setattr__(self, "young", check_quantity(self.young, name="young", unit="Pa"))
         object.__setattr__(self, "relaxation_time",
-                           check_positive(self.relaxation_time, name="relaxation_time", unit="s"))
+                           check_quantity(self.relaxation_time, name="relaxation_time", unit="s"))
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
 
     @property
@@ -524,8 +542,13 @@ class KelvinVoigt:
     poisson: float
 
     def __post_init__(self):
-        object.__setattr__(self, "young", check_positive(self.young, name="young", unit="Pa"))
-        object.__setattr__(self, "viscosity", check_positive(self.viscosity, name="viscosity", unit="Pa s"))
+        object.__setattr__(self, "young", check_quantity(self.young, name="young", unit="Pa"))
+        viscosity = check_positive(self.viscosity, name="viscosity", unit="Pa s")
+        low, high = (self.young * limit for limit in LIMITS["s"])  # a retardation time within the time limits
+        if not low <= viscosity <= high:
+            raise ParameterError(f"viscosity must lie between {low:g} and {high:g} Pa s (young times the times "
+                                 f"{LIMITS['s'][0]:g} to {LIMITS['s'][1]:g} s), got {viscosity!r}")
+        object.__setattr__(self, "viscosity", viscosity)
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
 
     @property
