@@ -22,20 +22,19 @@ import re
 import sys
 import time
 
+from . import io
 from .errors import FrameworkError
+from .result import SERIES_UNITS
 from .scenario import ScenarioError, picture_file
 
 
 def write_summary(result, path):
     """``summary.csv``: one row per finished step, SI units in the header."""
     table = result.summary()
-    units = {"time": "s", "load": "N", "approach": "m", "contact_area": "m2", "contact_radius": "m",
-             "max_pressure": "Pa", "center_x1": "m", "center_x2": "m", "tilt_x1": "rad", "tilt_x2": "rad",
-             "friction_coefficient": "1", "torque": "N m", "iterations": "1", "residual": "1"}
-    temporary = path + ".tmp"
+    temporary = io.temporary(path)
     with open(temporary, "w", newline="") as f:
         writer = csv.writer(f)
-        writer.writerow([f"{key} [{units.get(key, '')}]" for key in table])
+        writer.writerow([f"{key} [{SERIES_UNITS[key]}]" for key in table])
         writer.writerows(zip(*table.values()))
     os.replace(temporary, path)
 
@@ -129,7 +128,7 @@ def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
         raise FrameworkError(f"--resume: no checkpoint to resume in {out!r} (expected {checkpoint})")
     marker = prepare_folder(out, scenario.source)
     summary = os.path.join(out, "summary.csv")
-    total = len(scenario.simulation.schedule.times)
+    total = len(scenario.simulation.output_times)
 
     def resolve(steps):
         return None if steps == "all" else {step % total for step in steps}
@@ -237,7 +236,7 @@ def main(argv=None):
         scenario = scenarios.read(path, cells=getattr(args, "cells", None))
         check_output(scenario)
         if args.command == "check":
-            print(f"{path}: ok ({len(scenario.simulation.schedule.times)} steps on a "
+            print(f"{path}: ok ({len(scenario.simulation.output_times)} steps on a "
                   f"{scenario.simulation.grid.shape} grid)")
             return 0
         result, written, elapsed = run_scenario(scenario, args.out, progress=not args.quiet,

@@ -20,6 +20,7 @@ LIMITS = {
     "1/Pa": (1e-15, 1e3),  # compliances: the inverse range
     "s": (1e-15, 1e15),    # times: a femtosecond to thirty million years
     "N": (0.0, 1e12),      # loads (a history passes through small values: no lower limit)
+    "m/s": (1e-15, 1e9),   # speeds: far slower than any creep test to far faster than any sound wave
 }
 
 

@@ -19,7 +19,7 @@ def _registry():
     classes = [grid.Grid, materials.Elastic, materials.Viscoelastic, materials.Maxwell, materials.KelvinVoigt,
                indenters.Sphere, indenters.FlatPunch, indenters.RoundedFlatPunch, indenters.Cylinder,
                indenters.HeightMap, loads.Step, loads.Ramp, loads.Hold, loads.Table, loads.Cyclic, loads.Sequence,
-               schedules.Static, schedules.Eccentric, simulation.Options, solver.SolverOptions]
+               schedules.Static, schedules.Eccentric, schedules.Rolling, simulation.Options, solver.SolverOptions]
     table = {cls.__name__: cls for cls in classes}
     table["StandardLinearSolid"] = materials.StandardLinearSolid
     return table

@@ -28,6 +28,24 @@ class Indenter:
         """Cells the body can touch at all (all of them but for a punch's walls)."""
         return np.ones(grid.shape, bool)
 
+    def slopes(self, x1, x2):
+        """Slopes ``(dh/dx1, dh/dx2)`` [-] of the body at ``(x1, x2)`` [m]; None where only the grid can tell."""
+        return None
+
+    def slopes_on_grid(self, grid):
+        """Slopes ``(dh/dx1, dh/dx2)`` on the cells of ``grid``: the body's own, else central differences.
+
+        They give the rolling resistance ``F_t = sum p (grad h . m) dA`` of a
+        body moving along ``m`` (THEORY.md sec. 7).
+        """
+        x1, x2 = grid.coordinates()
+        exact = self.slopes(x1, x2)
+        if exact is not None:
+            return tuple(np.broadcast_to(np.asarray(s, dtype=float), grid.shape) for s in exact)
+        heights = self.on_grid(grid)
+        return tuple(np.gradient(heights, spacing, axis=axis) if n > 1 else np.zeros(grid.shape)
+                     for axis, (spacing, n) in enumerate(zip(grid.spacing, grid.shape)))
+
     def on_grid(self, grid):
         """Height on the cells of ``grid`` [m], checked finite and within the lengths of ``LIMITS``."""
         x1, x2 = grid.coordinates()
@@ -71,6 +89,14 @@ class Sphere(Indenter):
             return r2 / (2 * self.radius)
         return self.radius - np.sqrt(np.maximum(self.radius**2 - r2, 0.0))
 
+    def slopes(self, x1, x2):
+        x1, x2 = np.asarray(x1, dtype=float), np.asarray(x2, dtype=float)
+        if not self.exact:
+            return x1 / self.radius, x2 / self.radius
+        # the exact sphere's slope r / sqrt(R^2 - r^2), vertical (bounded here) where it ends at r = R
+        root = np.sqrt(np.maximum(self.radius**2 - x1**2 - x2**2, (1e-6 * self.radius) ** 2))
+        return x1 / root, x2 / root
+
 
 @dataclass(frozen=True)
 class FlatPunch(Indenter):
@@ -93,6 +119,10 @@ class FlatPunch(Indenter):
 
     def reach(self, grid):
         return np.hypot(*grid.coordinates()) <= self.radius
+
+    def slopes(self, x1, x2):  # the face is flat; the walls carry no pressure
+        zero = np.zeros(np.broadcast_shapes(np.shape(x1), np.shape(x2)))
+        return zero, zero
 
 
 @dataclass(frozen=True)
@@ -120,6 +150,12 @@ class RoundedFlatPunch(Indenter):
         excess = np.maximum(np.hypot(x1, x2) - self.flat_radius, 0.0)
         return excess**2 / (2 * self.edge_radius)
 
+    def slopes(self, x1, x2):
+        r = np.hypot(x1, x2)
+        excess = np.maximum(r - self.flat_radius, 0.0)
+        scale = np.divide(excess, self.edge_radius * r, out=np.zeros(np.shape(r)), where=r > 0)
+        return scale * x1, scale * x2
+
 
 @dataclass(frozen=True)
 class Cylinder(Indenter):
@@ -145,6 +181,12 @@ class Cylinder(Indenter):
     def height(self, x1, x2):
         across = np.asarray(x2 if self.axis == 0 else x1)
         return across**2 / (2 * self.radius)
+
+    def slopes(self, x1, x2):
+        zero = np.zeros(np.broadcast_shapes(np.shape(x1), np.shape(x2)))
+        if self.axis == 0:
+            return zero, np.asarray(x2) / self.radius + zero
+        return np.asarray(x1) / self.radius + zero, zero
 
 
 @dataclass(frozen=True)

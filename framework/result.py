@@ -27,6 +27,13 @@ class StepRecord:
     tilt: tuple = (0.0, 0.0)
 
 
+#: SI unit of each series of :meth:`Result.summary` (``summary.csv`` writes them in its header).
+SERIES_UNITS = {"time": "s", "load": "N", "approach": "m", "contact_area": "m2", "contact_radius": "m",
+                "half_width": "m", "max_pressure": "Pa", "center_x1": "m", "center_x2": "m", "tilt_x1": "rad",
+                "tilt_x2": "rad", "friction_coefficient": "1", "torque": "N m", "dissipated_power": "W",
+                "position_x1": "m", "position_x2": "m", "iterations": "1", "residual": "1"}
+
+
 class Result:
     """Series (one value per step) and fields of a run.
 
@@ -35,7 +42,8 @@ class Result:
     ``half_width`` [m] (line contacts on a grid periodic along one axis, else
     NaN), ``max_pressure`` [Pa],
     ``center`` (n, 2) load centre [m], ``tilt`` (n, 2) [rad],
-    ``friction_coefficient`` and ``torque`` [N m] (zero without motion),
+    ``friction_coefficient`` [-], ``torque`` [N m], ``dissipated_power`` [W]
+    and ``position`` (n, 2) [m] of a rolling body (zero without motion),
     ``iterations`` and ``residual`` of each solve.
     Fields: :meth:`pressure`, :meth:`displacement`, :meth:`gap` on the surface;
     :meth:`stress`, :meth:`von_mises`, :meth:`stress_at` below it. With a
@@ -124,15 +132,72 @@ class Result:
                         ((r.pressure * x1).sum() / total, (r.pressure * x2).sum() / total))
         return np.array(rows, dtype=float).reshape(-1, 2)
 
+    def _motion(self):
+        """The unit vector of the motion ``m`` (None without one) and which records have moved."""
+        velocity = getattr(self.schedule, "velocity", None)
+        if velocity is None:
+            return None, np.zeros(len(self.records), bool)
+        moving = np.ones(len(self.records), bool) if self.schedule.steady else \
+            self.times > self.schedule.motion_start
+        return np.sign(np.asarray(velocity, dtype=float)), moving
+
+    def _resistance(self, arm):
+        """``sum p (arm . m) dA`` per record, zero for records without motion."""
+        direction, moving = self._motion()
+        out = np.zeros(len(self.records))
+        if direction is None:
+            return out
+        along = direction[0] * arm[0] + direction[1] * arm[1]
+        for k, record in enumerate(self.records):
+            if moving[k]:
+                out[k] = float(np.sum(record.pressure * along)) * self.grid.cell_area
+        return out
+
     @property
     def friction_coefficient(self):
-        """Apparent friction coefficient (zero for indentation without motion)."""
-        return np.zeros(len(self.records))
+        """Apparent (rolling) friction coefficient ``F_t / W`` [-], positive when it resists the motion.
+
+        ``F_t = sum p (grad h . m) dA`` over the contact, ``m`` the unit vector of
+        the motion and ``h`` the body's height (for a sphere ``sum p x.m dA / R``):
+        the part of the normal pressure on the body that pushes against its
+        motion (THEORY.md sec. 7). Zero without motion (indentation, and the
+        rest before a rolling body starts).
+        """
+        if self._motion()[0] is None:
+            return np.zeros(len(self.records))
+        slopes = self.indenter.slopes_on_grid(self.grid)
+        load = self.load
+        return np.divide(self._resistance(slopes), load, out=np.zeros(len(self.records)), where=load > 0)
 
     @property
     def torque(self):
-        """Resisting torque [N m] (zero for indentation without motion)."""
-        return np.zeros(len(self.records))
+        """Resisting torque ``sum p (x . m) dA`` [N m] of the pressure about the body's axis (zero without motion).
+
+        The half-space approximation takes the pressure vertical, so for a
+        sphere or a cylinder of radius R it is ``friction_coefficient * W * R``.
+        On a line contact it is per grid length along the line (the grid's load).
+        """
+        return self._resistance(self.grid.coordinates())
+
+    @property
+    def dissipated_power(self):
+        """Power dissipated in the material ``F_t |V|`` [W] (zero without motion)."""
+        direction, _ = self._motion()
+        if direction is None:
+            return np.zeros(len(self.records))
+        return self.friction_coefficient * self.load * self.schedule.speed
+
+    @property
+    def position(self):
+        """Position ``(n, 2)`` [m] of the body's axis in the material frame: 0 at rest, ``V (t - t_start)`` rolling.
+
+        Zero for a steady run (its frame moves with the body).
+        """
+        velocity = getattr(self.schedule, "velocity", None)
+        if velocity is None or self.schedule.steady:
+            return np.zeros((len(self.records), 2))
+        moved = np.maximum(self.times - self.schedule.motion_start, 0.0)
+        return moved[:, None] * np.asarray(velocity, dtype=float)[None, :]
 
     def _record(self, step):
         if not isinstance(step, (int, np.integer)) or isinstance(step, bool) \
@@ -232,14 +297,16 @@ class Result:
         save(self, path)
 
     def summary(self):
-        """Per-step scalar table as a dict of arrays."""
-        center = self.center
+        """Per-step scalar table as a dict of arrays (units: :data:`SERIES_UNITS`)."""
+        center, position = self.center, self.position
         return {"time": self.times, "load": self.load, "approach": self.approach,
                 "contact_area": self.contact_area, "contact_radius": self.contact_radius,
                 "half_width": self.half_width,
                 "max_pressure": self.max_pressure, "center_x1": center[:, 0], "center_x2": center[:, 1],
                 "tilt_x1": self.tilt[:, 0], "tilt_x2": self.tilt[:, 1],
                 "friction_coefficient": self.friction_coefficient, "torque": self.torque,
+                "dissipated_power": self.dissipated_power,
+                "position_x1": position[:, 0], "position_x2": position[:, 1],
                 "iterations": self.iterations, "residual": self.residual}
 
 

@@ -196,6 +196,12 @@ def parse(data, source="<scenario>"):
         schedule.setdefault("type", "Static")
         if "times" in schedule:
             schedule["times"] = _times(schedule["times"], "schedule.times")
+        if isinstance(schedule.get("start"), dict):  # a rolling run's preload at rest: a Static schedule
+            start = dict(schedule["start"])
+            start.setdefault("type", "Static")
+            if "times" in start:
+                start["times"] = _times(start["times"], "schedule.start.times")
+            schedule["start"] = start
         for key in ("load", "approach"):
             if key in schedule:
                 schedule[key] = build(schedule[key], name=f"schedule.{key}")  # numbers and lists pass through
@@ -205,7 +211,9 @@ def parse(data, source="<scenario>"):
         except ParameterError as exc:
             raise ParameterError(f"options: {exc}") from exc
         output = _output(data.get("output", {}))
-        total = len(schedule.times)
+        simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
+                                options=options)
+        total = len(simulation.output_times)
         for key in ("steps", "volume_steps"):
             steps = getattr(output, key)
             if steps != "all" and any(not -total <= step < total for step in steps):
@@ -216,8 +224,6 @@ def parse(data, source="<scenario>"):
             if not isinstance(step, int) or isinstance(step, bool) or not -total <= step < total:
                 raise ParameterError(f"output.pictures[{i}].step: expected an index in [-{total}, {total}), "
                                      f"got {step!r}")
-        simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
-                                options=options)
     except FrameworkError as exc:  # a bad value, a HeightMap's shape, an offset the body cannot carry
         raise ScenarioError(f"{source}: {exc}") from exc
     return Scenario(simulation=simulation, output=output, source=source)

@@ -1,25 +1,18 @@
-"""The time stepper: one mechanism for every schedule and material.
+"""The time stepper: one loop for every schedule and material.
 
-Each step is an elastic contact problem with the step's effective compliance
-plus a known displacement from the history (THEORY.md sec. 5): with
-``C*(t) = c0 + sum_k c_k (1 - exp(-t/lambda_k))`` and a pressure varying
-linearly in time within a step,
+Each step prepares the history (the material moved under a rolling body is
+translated with everything it remembers, :mod:`framework.history`), solves
+the contact of the step, and commits the new pressure. The step's contact is
+elastic with the step's effective compliance plus the displacement the
+history leaves (THEORY.md sec. 5): conjugate gradients with the symmetric
+half-space operator (:func:`framework.solver.solve_normal`). The steady state
+of a rolling body has its history folded into a non-symmetric operator
+(:mod:`framework.operators.rolling`) and its own solver
+(:func:`framework.steady_solver.solve_steady`), with no history to carry.
 
-    u_n = K * [ C_eff p_n - sum_k c_k (e_k q_k - w_k p_{n-1}) ],
-    C_eff = c0 + sum_k c_k (1 - w_k),  e_k = exp(-dt/lambda_k),
-    w_k = (lambda_k/dt)(1 - e_k)  (1 when dt = 0),
-    q_k <- e_k q_k + w_k (p_n - p_{n-1}),
-
-(a material without instantaneous compliance, ``c0 = 0``, takes the pressure
-changed at the start of each step and held instead: ``w_k = e_k`` and
-``C_eff = C*(dt)``, first order; see :attr:`ComplianceSeries.linear_steps`),
-which costs one extra convolution per step and one surface field per term
-(plus one, the time integral of the pressure, for a fluid's ``flow`` term). An
-elastic material has no terms, and the steps are independent solves
-warm-started from the previous pressure. ``C_eff`` is the mean of ``C*`` over
-``[0, dt]``. The quadratic hereditary sum over all previous steps
-(Chen et al. 2011; seed 001) is kept as :class:`HereditarySum`, the reference
-the recursion is tested against (``options={"history": "hereditary"}``).
+The stations of a run (:class:`Station`) are its output times, every jump
+and kink of the load history, the finer steps a periodic history needs and,
+for a transient rolling run, one step per cell of motion.
 """
 import math
 import sys
@@ -31,10 +24,13 @@ from . import loads, schedules
 from ._validation import check_bool, check_positive_int
 from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
+from .history import HereditarySum, PronyRecursion, SteadyMemory
 from .indenters import Indenter
+from .operators.rolling import SteadyRollingCompliance
 from .operators.surface import SurfaceCompliance
 from .result import Result, StepRecord
 from .solver import SolverOptions, solve_normal
+from .steady_solver import solve_steady
 
 
 @dataclass(frozen=True)
@@ -83,114 +79,27 @@ class Options:
         return cls(solver=solver, **{k: v for k, v in value.items() if k in run_keys})
 
 
-@dataclass
-class HistoryState:
-    """What the recursion carries from one step to the next (all on the surface grid).
-
-    ``pressure`` is the last pressure, ``fields`` the Prony history fields ``q_k``
-    (one per compliance term) and ``integral`` the time integral of the
-    pressure (for a ``flow`` term); rolling translates them with the material.
-    """
-
-    time: float
-    pressure: np.ndarray
-    fields: np.ndarray
-    integral: np.ndarray
-
-    @classmethod
-    def at_rest(cls, shape, n_terms):
-        return cls(0.0, np.zeros(shape), np.zeros((n_terms,) + tuple(shape)), np.zeros(shape))
-
-
-class PronyRecursion:
-    """History by Prony recursions: O(1) convolutions and fields per step (THEORY.md sec. 5)."""
-
-    def __init__(self, series, shape):
-        self.series = series
-        self.coefficients, self.retardation = series.coefficients, series.times
-        self.state = HistoryState.at_rest(shape, len(series.terms))
-
-    @property
-    def time(self):
-        return self.state.time
-
-    @property
-    def pressure(self):
-        return self.state.pressure
-
-    def prepare(self, time):
-        """Effective compliance of the step to ``time`` and the pressure-like field of the history."""
-        state, c = self.state, self.coefficients
-        dt = time - state.time
-        compliance = float(self.series.step_response(0.0, dt))
-        if not len(c) and not self.series.flow:
-            return compliance, None
-        self._decay = np.exp(-dt / self.retardation)
-        self._weight = self.series.step_weights(dt)
-        self._dt = dt
-        field = np.sum(c * self._weight) * state.pressure - np.tensordot(c * self._decay, state.fields, axes=1)
-        if self.series.flow:
-            field = field + self.series.flow * (state.integral + 0.5 * dt * state.pressure)
-        return compliance, field
-
-    def snapshot(self):
-        """The history as arrays (for a checkpoint)."""
-        state = self.state
-        return {"time": state.time, "pressure": state.pressure, "fields": state.fields, "integral": state.integral}
-
-    def restore(self, snapshot):
-        self.state = HistoryState(float(snapshot["time"]), snapshot["pressure"], snapshot["fields"],
-                                  snapshot["integral"])
-
-    def commit(self, time, pressure):
-        state = self.state
-        if len(self.coefficients) or self.series.flow:
-            state.fields = self._decay[:, None, None] * state.fields \
-                + self._weight[:, None, None] * (pressure - state.pressure)
-            state.integral = state.integral + 0.5 * self._dt * (state.pressure + pressure)
-        state.pressure, state.time = pressure, time
-
-
-class HereditarySum:
-    """History by the full hereditary sum over every previous step: O(n) per step.
-
-    ``u_n = K * sum_j (p_j - p_{j-1}) mean_{[t_{j-1}, t_j]} C*(t_n - s)`` for a
-    pressure linear in each step (``C*(t_n - t_{j-1})`` for one held, see
-    :meth:`ComplianceSeries.step_response`); the reference the recursion must reproduce.
-    """
-
-    def __init__(self, series, shape):
-        self.series = series
-        self.times, self.pressures = [0.0], [np.zeros(shape)]
-
-    time = property(lambda self: self.times[-1])
-    pressure = property(lambda self: self.pressures[-1])
-
-    def prepare(self, time):
-        compliance = float(self.series.step_response(0.0, time - self.times[-1]))
-        field = -compliance * self.pressures[-1]
-        for j in range(1, len(self.times)):
-            felt = float(self.series.step_response(time - self.times[j], time - self.times[j - 1]))
-            field = field + felt * (self.pressures[j] - self.pressures[j - 1])
-        return compliance, field
-
-    def commit(self, time, pressure):
-        self.times.append(time)
-        self.pressures.append(pressure)
-
-    def snapshot(self):
-        return {"times": np.array(self.times), "pressures": np.array(self.pressures)}
-
-    def restore(self, snapshot):
-        self.times, self.pressures = list(snapshot["times"]), list(snapshot["pressures"])
-
-
 #: The most time steps a run may take: beyond it a schedule is a mistake (e.g. a 1 ms period over a year).
 MAX_STATIONS = 1_000_000
 
+#: How many wake lengths ``|V| lambda`` a transient rolling grid must hold behind the contact: the history of
+#: material that leaves the grid is dropped, and what it would still displace decays like ``exp(-d/(V lambda))``.
+WAKE_LENGTHS = 3.0
+
+
+@dataclass(frozen=True)
+class Station:
+    """One step of a run: its time [s], the load [N] or approach [m] it imposes, whether it is recorded,
+    and the whole cells ``(c1, c2)`` the material moved under the body since the previous station."""
+
+    time: float
+    value: float
+    recorded: bool
+    shift: tuple = (0, 0)
+
 
 def _stations(schedule, refine=True):
-    """``(time, value, recorded)``: the output times, the kinks and both sides of every jump.
+    """The stations of an indentation at rest: the output times, the kinks and both sides of every jump.
 
     With ``refine`` (a material with memory), every gap between them that lies
     in an interval of the history's ``resolution`` is split into equal steps
@@ -210,12 +119,7 @@ def _stations(schedule, refine=True):
         return 1 if step is None else math.ceil((b - a) / step)
 
     splits = [pieces(a, b) for a, b in zip(keys, keys[1:])]
-    count = len(keys) + len(jumps) + sum(splits) - len(splits)
-    if count > MAX_STATIONS:
-        raise ParameterError(
-            f"the schedule needs {count} time steps up to t = {last:g} s (a sine history is followed with "
-            f"{loads.STATIONS_PER_PERIOD} steps per period), more than {MAX_STATIONS}: shorten the times or "
-            f"lengthen the period")
+    _check_count(len(keys) + len(jumps) + sum(splits) - len(splits), last)
     inner = {a + (b - a) * k / n for a, b, n in zip(keys, keys[1:], splits) for k in range(1, n)}
     every = np.array(sorted(set(keys) | inner))
     stations = []
@@ -224,8 +128,62 @@ def _stations(schedule, refine=True):
         # both sides of a jump: a step of zero duration between them (a jump to the same value is none; the
         # left limit is taken a hair before t, so a steep ramp's left limit differs from its value by rounding)
         if not math.isclose(before, value, rel_tol=1e-9):
-            stations.append((t, before, False))
-        stations.append((t, value, t in outputs))
+            stations.append(Station(t, before, False))
+        stations.append(Station(t, value, t in outputs))
+    return stations
+
+
+def _check_count(count, last):
+    if count > MAX_STATIONS:
+        raise ParameterError(
+            f"the schedule needs {count} time steps up to t = {last:g} s (a sine history is followed with "
+            f"{loads.STATIONS_PER_PERIOD} steps per period, rolling with one per cell), more than {MAX_STATIONS}: "
+            f"shorten the times or the distance, or lengthen the period")
+
+
+def _rolling_stations(schedule, grid, refine=True):
+    """The stations of a rolling run: the rest indentation, then one per cell of motion (transient),
+    or one per load (steady)."""
+    if schedule.steady:
+        return [Station(float(k), value, True) for k, value in enumerate(schedule.loads)]
+    axis, speed = schedule.axis, schedule.speed
+    cell, step = grid.spacing[axis], grid.spacing[axis] / speed        # [m], [s]
+    if schedule.times is not None:
+        cells = schedule.times / step
+        whole = np.round(cells)
+        bad = np.abs(cells - whole) > 1e-6 * np.maximum(1.0, whole)
+        if bad.any():
+            t = float(schedule.times[np.argmax(bad)])
+            raise ParameterError(
+                f"times: the body moves one cell ({cell:g} m) every {step:g} s and the material under it by whole "
+                f"cells only; {t:g} s is {t / step:.4g} cells of motion, not a whole number of cells: use multiples "
+                f"of {step:g} s (nearest {round(t / step) * step:g} s)")
+        outputs = {int(k) for k in whole}
+    if schedule.distance is not None:
+        count = int(round(schedule.distance / cell))
+        if count < 1:
+            raise ParameterError(f"distance {schedule.distance:g} m is shorter than one cell ({cell:g} m along the "
+                                 f"motion): the material moves by whole cells; roll at least {cell:g} m")
+        if schedule.times is not None and max(outputs) > count:
+            raise ParameterError(f"times: {float(schedule.times[-1]):g} s lies beyond the end of the motion "
+                                 f"(distance {count * cell:g} m at {speed:g} m/s: {count * step:g} s)")
+    else:
+        count = max(outputs)
+    if schedule.times is None:
+        outputs = set(range(count + 1))
+    stations = _stations(schedule.start, refine) if schedule.start is not None else []
+    begin = schedule.motion_start
+    _check_count(len(stations) + count + 1, begin + count * step)
+    value = float(schedule.history(0.0))
+    if not stations or not math.isclose(stations[-1].value, value, rel_tol=1e-9) or 0 in outputs:
+        if stations and stations[-1].recorded and 0 in outputs:
+            outputs.discard(0)   # the rest indentation at the motion's start is the start's last record
+        stations.append(Station(begin, value, 0 in outputs))
+    shift = [0, 0]
+    shift[axis] = -int(np.sign(schedule.velocity[axis]))  # the material moves against the body, a cell a step
+    loads_at = schedule.history(np.arange(1, count + 1) * step)
+    stations += [Station(begin + k * step, float(loads_at[k - 1]), k in outputs, tuple(shift))
+                 for k in range(1, count + 1)]
     return stations
 
 
@@ -264,8 +222,9 @@ class Simulation:
             raise ParameterError(f"material must be a framework material, got {type(material).__name__}")
         if not isinstance(indenter, Indenter):
             raise ParameterError(f"indenter must be a framework indenter, got {type(indenter).__name__}")
-        if not isinstance(schedule, schedules.Static):
-            raise ParameterError(f"schedule must be a framework schedule, got {type(schedule).__name__}")
+        if not isinstance(schedule, (schedules.Static, schedules.Rolling)):
+            raise ParameterError(f"schedule must be a framework schedule (Static, Eccentric, Rolling), got "
+                                 f"{type(schedule).__name__}")
         if inclusions is not None:
             raise ParameterError(f"inclusions are not supported by this version, got {inclusions!r}; pass None")
         self.grid, self.material, self.indenter, self.schedule = grid, material, indenter, schedule
@@ -291,49 +250,112 @@ class Simulation:
         if offset is not None:
             _check_offset(offset, self.indenter.reach(grid), grid.coordinates())
         memory = len(series.terms) > 0 or series.flow > 0
-        self._timeline = stations = _stations(schedule, refine=memory)
+        rolling = isinstance(schedule, schedules.Rolling)
+        stations = _rolling_stations(schedule, grid, memory) if rolling else _stations(schedule, refine=memory)
+        self._timeline = stations
+        self.output_times = np.array([station.time for station in stations if station.recorded])
         if series.c0 <= 0:
-            for (time, before, _), (later, after, _) in zip(stations, stations[1:]):
-                if later == time and after != before:
+            for before, after in zip([Station(0.0, 0.0, False)] + stations, stations):
+                if after.time == before.time and after.value != before.value:
                     raise ParameterError(
                         f"the material has no instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, a Kelvin-Voigt "
-                        f"solid): the {schedule.control} cannot change suddenly, as it does at t = {time:g} s "
-                        f"(from {before:g} to {after:g}); use a Ramp or a Table that starts from zero")
+                        f"solid): the {schedule.control} cannot change suddenly, as it does at t = {after.time:g} s "
+                        f"(from {before.value:g} to {after.value:g}); use a Ramp or a Table that starts from zero")
+        if rolling:
+            self._check_rolling()
+
+    def _check_rolling(self):
+        """What a rolling body needs of the material and the grid."""
+        grid, schedule, series = self.grid, self.schedule, self._series
+        axis = schedule.axis
+        if schedule.steady:
+            if grid.periodic[axis]:
+                raise ParameterError(f"velocity: a steady state is solved along an open grid axis; axis {axis} of "
+                                     f"the grid is periodic (periodic={grid.periodic}): make it open, or roll "
+                                     f"transiently (the material then comes round again)")
+            if series.flow:
+                raise ParameterError(
+                    "material: a fluid (a Maxwell material, flow > 0) has no steady rolling state: the groove its flow "
+                    "leaves behind the body deepens without bound, so the approach is infinite; roll it transiently "
+                    "(steady=False) over a finite distance instead")
+            if series.c0 <= 0:
+                raise ParameterError(
+                    f"material: a solid without instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, Kelvin-Voigt) "
+                    f"has no bounded steady rolling pressure (it jumps at the leading edge); roll it transiently")
+            return
+        if grid.periodic[axis] or series.flow:
+            return  # the material comes round again; a fluid's groove never ends: no wake fits either
+        # The grid must hold the contact and its wake behind the body's axis. The largest contact the run can
+        # have is the one at rest with the compliance reached at its end: solve it once, now.
+        stations = self._timeline
+        duration = stations[-1].time
+        compliance = float(series(duration))
+        load = max(station.value for station in stations)
+        operator = SurfaceCompliance(grid)
+        contact = solve_normal(lambda p: compliance * operator.apply(p), self._heights, cell_area=grid.cell_area,
+                               load=load, options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4,
+                                                                raise_on_failure=False),
+                               window=operator.window,
+                               apply_window=lambda f, box: compliance * operator.apply_window(f, box)).pressure > 0
+        along = (grid.x1, grid.x2)[axis]
+        touched = along[contact.any(axis=1 - axis)]
+        sign = np.sign(schedule.velocity[axis])
+        trailing = float((-sign * touched).max()) if touched.size else 0.0   # how far the contact reaches behind
+        significant = [lam for c, lam in series.terms if c >= 0.01 * series.coefficients.sum()]
+        wake = WAKE_LENGTHS * schedule.speed * max(significant, default=0.0)
+        behind = grid.size[axis] / 2
+        if trailing + wake > behind:
+            raise GridTooSmallError(
+                f"the grid is too short for the contact and its wake: a transient rolling run drops the history of "
+                f"the material that leaves the grid, so behind the body's axis the grid must extend at least "
+                f"{trailing + wake:.4g} m (the contact at rest reaches {trailing:.4g} m behind it, plus "
+                f"{WAKE_LENGTHS:g} wake lengths |V| lambda = {wake:.4g} m); it extends {behind:.4g} m (size[{axis}] "
+                f"= {grid.size[axis]:g} m). Lengthen the grid along x{axis + 1} to at least "
+                f"{2 * (trailing + wake):.4g} m, or solve the steady state (steady=True), which needs no wake")
 
     def steps(self, state=None):
         """Run step by step, yielding a :class:`StepRecord` at every output time.
 
         ``state`` (from a checkpoint) continues a run where it stopped.
         """
-        grid, options = self.grid, self.options
+        grid, options, schedule = self.grid, self.options, self.schedule
         heights, series = self._heights, self._series
-        operator = SurfaceCompliance(grid)
-        integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
+        steady = getattr(schedule, "steady", False)
+        if steady:
+            operator = SteadyRollingCompliance(grid, series, schedule.velocity)
+            integrator = SteadyMemory(grid.shape)
+        else:
+            operator = SurfaceCompliance(grid)
+            integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         self._integrator, start, index = integrator, 0, 0
         if state is not None:
             integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")})
             start, index = int(state["station"]), int(state["index"])
-        load_control = self.schedule.control == "load"
-        offset = getattr(self.schedule, "offset", None)
+        load_control = schedule.control == "load"
+        offset = getattr(schedule, "offset", None)
         coordinates = grid.coordinates() if offset is not None else None
-        for number, (time, value, recorded) in enumerate(self._timeline):
+        for number, station in enumerate(self._timeline):
             if number < start:
                 continue
-            compliance, memory = integrator.prepare(time)
+            integrator.translate(station.shift, grid.periodic)
+            compliance, memory = integrator.prepare(station.time)
             history_displacement = 0.0 if memory is None else operator.apply(memory)
-            solution = solve_normal(
-                lambda p: compliance * operator.apply(p), heights + history_displacement,
-                cell_area=grid.cell_area, initial=integrator.pressure,
-                load=value if load_control else None, approach=None if load_control else value,
-                options=options.solver, window=operator.window,
-                apply_window=lambda field, box: compliance * operator.apply_window(field, box),
-                offset=offset, coordinates=coordinates)
+            arguments = dict(cell_area=grid.cell_area, initial=integrator.pressure, options=options.solver,
+                             window=operator.window,
+                             apply_window=lambda field, box: compliance * operator.apply_window(field, box))
+            if steady:
+                solution = solve_steady(operator.apply, heights, load=station.value, **arguments)
+            else:
+                solution = solve_normal(
+                    lambda p: compliance * operator.apply(p), heights + history_displacement,
+                    load=station.value if load_control else None, approach=None if load_control else station.value,
+                    offset=offset, coordinates=coordinates, **arguments)
             if options.check_edges:
-                _check_edges(solution.pressure, grid, time, value, self.schedule.control)
-            integrator.commit(time, solution.pressure)
-            self._position = (number + 1, index + int(recorded))
-            if recorded:
-                yield StepRecord(index=index, time=time, load=solution.load, approach=solution.approach,
+                _check_edges(solution.pressure, grid, station.time, station.value, schedule.control)
+            integrator.commit(station.time, solution.pressure)
+            self._position = (number + 1, index + int(station.recorded))
+            if station.recorded:
+                yield StepRecord(index=index, time=station.time, load=solution.load, approach=solution.approach,
                                  pressure=solution.pressure,
                                  displacement=solution.displacement + history_displacement,
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
@@ -380,7 +402,7 @@ class Simulation:
             state = self._resume(resume, result)
             if state is None:  # a finished run: nothing left to do
                 return result
-        total = len(self.schedule.times)
+        total = len(self.output_times)
         end = "\r" if sys.stdout.isatty() else "\n"
 
         def save():
@@ -421,7 +443,7 @@ class Simulation:
         if differing:
             raise ParameterError(f"resume: the checkpoint {path!r} was written for another configuration "
                                  f"({', '.join(differing)} differ); run it with its own scenario or start afresh")
-        outputs = len(self.schedule.times)
+        outputs = len(self.output_times)
         if state is None and len(records) < outputs:
             raise ParameterError(f"resume: {path!r} holds {len(records)} of the {outputs} steps and no stepper "
                                  f"state: it is a saved result, not a checkpoint (run(checkpoint=...) writes one)")

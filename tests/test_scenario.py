@@ -28,7 +28,7 @@ def test_example_scenario_runs_from_the_cli(path, tmp_path):
     with open(tmp_path / "summary.csv") as f:
         rows = f.read().strip().splitlines()
     parsed = scenario.read(path)
-    assert len(rows) == 1 + len(parsed.simulation.schedule.times)
+    assert len(rows) == 1 + len(parsed.simulation.output_times)
 
 
 def test_demo_command(tmp_path):

@@ -8,7 +8,7 @@ import pytest
 
 import framework as fw
 from framework import indenters, loads, materials, reference, schedules
-from framework.simulation import HereditarySum, PronyRecursion
+from framework.history import HereditarySum, PronyRecursion
 
 MATERIAL = materials.Viscoelastic.from_prony(e_inf=1e9, terms=[(1.5e9, 1.0), (1e9, 30.0)], poisson=0.4)
 RADIUS = 10e-3
