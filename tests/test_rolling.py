@@ -12,6 +12,8 @@ sec. 7; derived in framework/reference/rolling.py), and the dense steady
 solutions of framework.reference.rolling (influence matrices with the filter
 integrated by quadrature, active-set solve, no FFT), on the same cells.
 """
+import os
+
 import numpy as np
 import pytest
 
@@ -300,3 +302,26 @@ def test_bad_rolling_against_the_grid():
     with pytest.raises(errors.ParameterError, match=r"periodic"):
         simulation(schedules.Rolling(load=LOAD, velocity=(speed(1.0), 0.0), steady=True),
                    grid=fw.Grid(shape=(64, 32), size=(8 * A0, 4 * A0), periodic=(True, False)))
+
+
+def test_rolling_files_are_drawn_in_the_material_frame(tmp_path):
+    """The grid moves with the body; the ParaView files place it at the body's position."""
+    pv = pytest.importorskip("pyvista")
+    pytest.importorskip("matplotlib")
+    import viz
+    grid = long_grid(0.5, cells_per_radius=4)
+    v = speed(0.5)
+    result = transient(grid, (v, 0.0), distance=3 * grid.spacing[0])
+    exporter = viz.export(result, tmp_path)
+    for k in (0, len(result) - 1):
+        for name in ("surface", "indenter"):
+            mesh = pv.read(tmp_path / f"{name}_{k:04d}.vtu")
+            centre = 0.5 * (mesh.bounds[0] + mesh.bounds[1])
+            assert centre == pytest.approx(result.position[k, 0], abs=1e-12 * grid.size[0])
+    assert result.position[-1, 0] == pytest.approx(3 * grid.spacing[0], rel=1e-12)
+    assert "surface" in exporter.collections
+    path = viz.plot_history(result, tmp_path / "history.png",
+                            ["friction_coefficient", "torque", "dissipated_power", "position"], against="position")
+    assert os.path.getsize(path) > 0
+    picture = viz.render(result, tmp_path / "pressure.png", field="pressure", step=-1)
+    assert picture.step == len(result) - 1

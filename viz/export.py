@@ -11,7 +11,9 @@ Open a ``.pvd`` in ParaView: its time steps carry the PHYSICAL time [s] of each
 step. The z axis points up, the solid occupies ``z <= 0`` (see
 :mod:`viz.meshes` for the geometry, the cell numbering and the stress frame).
 The surface is written undeformed: Warp By Vector ``displacement_vector``
-(scale factor 1) shows the deformed surface. The 6-component ``stress`` (and
+(scale factor 1) shows the deformed surface. A rolling run's grid moves with
+the body; the files draw it at the body's position in the material frame
+(``result.position``), so the body and its contact travel over the material. The 6-component ``stress`` (and
 ``eigenstrain``) is a symmetric tensor in VTK's order ``XX YY ZZ XY YZ XZ``,
 which ParaView's tensor filters expect (the framework's
 :meth:`~framework.Result.stress` is in Voigt order ``xx yy zz yz xz xy``); the
@@ -233,6 +235,7 @@ class Exporter:
                 for key in list(mesh.cell_data.keys()):
                     if mesh.cell_data[key].dtype == np.float64:
                         mesh.cell_data[key] = mesh.cell_data[key].astype(np.float32)
+            meshes.to_material_frame(mesh, result, k)
             meshes.attach_metadata(mesh, result, k, self._configuration)
             filename = f"{name}_{k:04d}.vtu"
             path = os.path.join(self.folder, filename)

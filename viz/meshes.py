@@ -20,6 +20,13 @@ Stress components are given in the exported frame ``(x, y, z) = (x1, x2, -x3)``:
 ``yz = -sigma_23`` and ``xz = -sigma_13`` (the framework's x3 points down).
 Invariants, principal stresses, von Mises and Tresca do not depend on this.
 
+Frame: the grid moves with the body (a rolling run works in the body's frame,
+centred on its axis), and so do the meshes built here. The exported files
+are translated to the material frame by :func:`to_material_frame`, i.e. by
+the body's ``result.position`` (0 at rest and for steady runs), so that in
+ParaView a rolling body and its contact travel over the material; the fields
+on the mesh are those of the cells under the body at that step.
+
 Tensor order: 6-component symmetric tensors (``stress``, ``eigenstrain``) are
 written in VTK's order ``XX YY ZZ XY YZ XZ`` (:data:`TENSOR_ORDER`), the order
 ParaView and VTK's tensor filters read, NOT the framework's Voigt order ``xx yy
@@ -283,6 +290,19 @@ def hexahedron_mesh(grid):
     connectivity = np.column_stack([q(i, j, k + 1), q(i + 1, j, k + 1), q(i + 1, j + 1, k + 1), q(i, j + 1, k + 1),
                                     q(i, j, k), q(i + 1, j, k), q(i + 1, j + 1, k), q(i, j + 1, k)])
     return _unstructured(points, connectivity, VTK_HEXAHEDRON)
+
+
+def to_material_frame(mesh, result, step):
+    """Translate a mesh built in the body's frame to the material frame: by ``result.position[step]``.
+
+    The exported files are drawn there (:class:`viz.Exporter`); the meshes
+    of this module and the pictures stay in the body's frame.
+    """
+    k = step_index(result, step)
+    shift = np.asarray(result.position[k], dtype=float)
+    if np.any(shift):
+        mesh.points[:, :2] += shift
+    return mesh
 
 
 def surface_mesh(result, step):

@@ -1,4 +1,4 @@
-"""History plots: per-step series of a result against time, load or approach (matplotlib, Agg).
+"""History plots: per-step series of a result against time, load, approach or distance rolled (matplotlib, Agg).
 
 The figure is made with :class:`matplotlib.figure.Figure` directly (no pyplot,
 no GUI backend, no global state), one panel per quantity. Lengths, areas and
@@ -24,14 +24,18 @@ QUANTITIES = {
     "max_pressure": ("max pressure", "Pa", None),
     "center": ("load centre", "m", ("x1", "x2")),
     "tilt": ("tilt", "rad", ("x1", "x2")),
+    "half_width": ("half-width", "m", None),
     "friction_coefficient": ("friction coefficient", "-", None),
     "torque": ("torque", "N m", None),
+    "dissipated_power": ("dissipated power", "W", None),
+    "position": ("position", "m", ("x1", "x2")),
     "iterations": ("solver iterations", "-", None),
     "residual": ("solver residual", "-", None),
 }
 
 #: Abscissae: name -> (label, SI unit).
-AGAINST = {"time": ("time", "s"), "load": ("load", "N"), "approach": ("approach", "m")}
+AGAINST = {"time": ("time", "s"), "load": ("load", "N"), "approach": ("approach", "m"),
+           "position": ("distance rolled", "m")}
 
 DEFAULT = ("load", "approach", "contact_radius", "max_pressure")
 
@@ -40,6 +44,13 @@ def _series(result, name):
     if name == "time":
         return np.asarray(result.times, dtype=float)
     return np.asarray(getattr(result, name), dtype=float)
+
+
+def _abscissa(result, name):
+    """The x values: a series, or for ``position`` the distance the body has rolled."""
+    if name == "position":
+        return np.linalg.norm(_series(result, "position"), axis=1)
+    return _series(result, name)
 
 
 def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None, title=None, dpi=120):
@@ -54,11 +65,14 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
     quantities : str or sequence of str
         Any of ``load`` [N], ``approach`` [m], ``contact_area`` [m^2],
         ``contact_radius`` [m], ``max_pressure`` [Pa], ``center`` [m] (x1 and
-        x2), ``tilt`` [rad] (two components), ``friction_coefficient`` [-],
-        ``torque`` [N m], ``iterations``, ``residual``. Default: load,
-        approach, contact radius and peak pressure.
-    against : {"time", "load", "approach"}
-        Abscissa: time [s] (default), load [N] or approach [m].
+        x2), ``tilt`` [rad] (two components), ``half_width`` [m] (line
+        contacts), ``friction_coefficient`` [-], ``torque`` [N m],
+        ``dissipated_power`` [W], ``position`` [m] (x1 and x2: a rolling
+        body's), ``iterations``, ``residual``. Default: load, approach,
+        contact radius and peak pressure.
+    against : {"time", "load", "approach", "position"}
+        Abscissa: time [s] (default), load [N], approach [m] or the distance
+        a rolling body has travelled [m].
     xscale : {"linear", "log", "symlog"}, optional
         Abscissa scale. Default: for time, ``symlog`` (linear below the first
         positive time, so t = 0 stays visible) when the positive times span
@@ -96,8 +110,8 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
         raise ParameterError("the result has no steps to plot")
     figure_module = _deps.require("matplotlib.figure")
     xlabel, xunit = AGAINST[against]
-    x_scale, xunit = display_unit(xunit, _magnitude(_series(result, against)))
-    x = _series(result, against) / x_scale
+    x_scale, xunit = display_unit(xunit, _magnitude(_abscissa(result, against)))
+    x = _abscissa(result, against) / x_scale
     positive = x[x > 0]
     if xscale is None:
         xscale = "linear"

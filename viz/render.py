@@ -398,9 +398,7 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
     plotter = pv.Plotter(off_screen=True, window_size=tuple(int(w) for w in window_size))
     plotter.set_background("white")
     overlay = _Overlay(plotter, font_size)
-    lines = [title] if title else [f"{label}{heading}",
-                                   f"step {k}, t = {_format_time(time)}, load {result.load[k]:.4g} N, "
-                                   f"approach {_length(result.approach[k])}"]
+    lines = [title] if title else [f"{label}{heading}", _step_line(result, k, time)]
     below_title = overlay.title("\n".join(lines))
     options = dict(scalars="values", cmap=cmap, clim=(low, high), show_edges=False, show_scalar_bar=False,
                    n_colors=2 if field == "contact" else 256)
@@ -739,6 +737,19 @@ def _camera_3d(plotter, mesh, azimuth, elevation, zoom, shift=0.07):
     plotter.renderer.ResetCameraClippingRange()
 
 
+def _step_line(result, k, time):
+    """The second title line: which step, and the state of the body (rolling: its speed or position)."""
+    line = f"load {result.load[k]:.4g} N, approach {_length(result.approach[k])}"
+    schedule = result.schedule
+    if getattr(schedule, "velocity", None) is None:
+        return f"step {k}, t = {_format_time(time)}, {line}"
+    if schedule.steady:
+        return f"step {k}, steady rolling at {schedule.speed:.4g} m/s, {line}, \u03bc = {result.friction_coefficient[k]:.3g}"
+    rolled = float(np.linalg.norm(result.position[k]))
+    return (f"step {k}, t = {_format_time(time)}, rolled {_length(rolled) if rolled else '0'}, {line}, "
+            f"\u03bc = {result.friction_coefficient[k]:.3g}")
+
+
 def _length(value, scale=None, unit=None):
     if scale is None:
         scale, unit = display_unit("m", value)
@@ -783,8 +794,13 @@ def _contact_outline(plotter, result, k, length_scale):
         return
     mesh = meshes.quad_mesh(grid, np.full(tuple(n + 1 for n in grid.shape), 1e-6 * max(grid.size)))
     mesh.points[:] /= length_scale
-    # zero padding closes the outline along the grid's edges
-    corners = meshes.corner_average(np.pad(contact, 1), (False, False))[1:-1, 1:-1]
+    # zero padding closes the outline along the grid's open edges; a periodic axis wraps (no edge there)
+    padded = contact
+    for axis, periodic in enumerate(grid.periodic):
+        width = [(0, 0), (0, 0)]
+        width[axis] = (1, 1)
+        padded = np.pad(padded, width, mode="wrap" if periodic else "constant")
+    corners = meshes.corner_average(padded, (False, False))[1:-1, 1:-1]
     mesh.point_data["contact"] = corners.ravel(order="F")
     outline = mesh.contour([0.5], scalars="contact")
     if outline.n_points:
