@@ -325,3 +325,48 @@ def test_rolling_files_are_drawn_in_the_material_frame(tmp_path):
     assert os.path.getsize(path) > 0
     picture = viz.render(result, tmp_path / "pressure.png", field="pressure", step=-1)
     assert picture.step == len(result) - 1
+
+
+def test_a_prony_series_of_several_terms_against_the_dense_reference():
+    """Three retardation terms (relaxation times 0.1, 1 and 10 s) on the same 20 x 20 cells."""
+    solid = materials.Viscoelastic.from_prony(e_inf=1e7, terms=[(3e7, 0.1), (3e7, 1.0), (3e7, 10.0)], poisson=0.45)
+    cells, half = 20, 2.0 * A0
+    grid = fw.Grid(shape=(cells, cells), size=(2 * half, 2 * half))
+    v = speed(1.0)
+    ours = steady(grid, (v, 0.0), material=solid)
+    dense = reference.steady_sphere(RADIUS, LOAD, v, solid, half, cells)
+    np.testing.assert_allclose(ours.pressure(0), dense.pressure, rtol=0, atol=1e-7 * dense.max_pressure)
+    assert ours.friction_coefficient[0] == pytest.approx(dense.friction_coefficient, rel=1e-6)
+
+
+def test_rolling_results_round_trip_and_resume(tmp_path):
+    """Saved and loaded, a rolling result keeps its series; a run stopped midway resumes to the same end."""
+    grid = long_grid(0.5, cells_per_radius=4)
+    schedule = schedules.Rolling(load=LOAD, velocity=(0.0, speed(0.5)), distance=8 * grid.spacing[1])
+    grid = fw.Grid(shape=grid.shape[::-1], size=grid.size[::-1])
+    simulation = fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=RADIUS),
+                               schedule=schedule)
+    whole = simulation.run()
+    whole.save(tmp_path / "whole.h5")
+    loaded = fw.load_result(tmp_path / "whole.h5")
+    for name in ("friction_coefficient", "torque", "dissipated_power", "position", "times"):
+        np.testing.assert_array_equal(getattr(loaded, name), getattr(whole, name))
+
+    class Stop(Exception):
+        pass
+
+    def crash(result, record):
+        if record.index == 6:
+            raise Stop
+    with pytest.raises(Stop):
+        simulation.run(callback=crash, checkpoint=tmp_path / "ckpt.h5", every=4)
+    resumed = fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=RADIUS),
+                            schedule=schedule).run(resume=tmp_path / "ckpt.h5")
+    np.testing.assert_allclose(resumed.pressure(-1), whole.pressure(-1), rtol=0, atol=1e-9 * whole.max_pressure[-1])
+    np.testing.assert_allclose(resumed.friction_coefficient, whole.friction_coefficient, rtol=1e-9, atol=1e-15)
+
+    steady_result = steady(fw.Grid(shape=(24, 24), size=(4 * A0, 4 * A0)), (speed(1.0), 0.0), load=[LOAD, 2 * LOAD])
+    steady_result.save(tmp_path / "steady.h5")
+    again = fw.load_result(tmp_path / "steady.h5")
+    np.testing.assert_array_equal(again.friction_coefficient, steady_result.friction_coefficient)
+    assert isinstance(again.schedule, schedules.Rolling) and again.schedule.steady
