@@ -80,8 +80,7 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
     pivoting = False
     pressure = np.zeros_like(base_gap)
     inner = 1e-2 * options.residual_tolerance
-    delta = 0.0
-    residual = np.inf
+    delta, converged = 0.0, False
     for iteration in range(options.max_iterations):
         box = window(contact) if window is not None else whole
         cells = contact[box]
@@ -111,7 +110,7 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
         entering = ~contact & (gap < 0)
         pressure = np.where(contact, candidate, 0.0)
         if not negative.any() and not entering.any():
-            residual = _residual(gap, contact, displacement)
+            converged = True
             break
         key = contact.tobytes()
         if key in seen:
@@ -127,15 +126,12 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
             contact.flat[np.argmin(np.where(entering, gap, np.inf))] = True
         if not contact.any():
             contact = base_gap + displacement <= (base_gap + displacement).min()
-    else:
-        residual = np.inf
-        gap = base_gap + apply(np.maximum(pressure, 0.0)) - delta
-    pressure = np.maximum(pressure, 0.0)
-    displacement = apply(pressure)
-    gap = base_gap + displacement - delta
-    residual = min(residual, _residual(gap, pressure > 0, displacement)) if np.isfinite(residual) else \
-        _residual(gap, pressure > 0, displacement)
-    success = bool(residual < options.residual_tolerance)
+    if not converged:  # the last iterate, made admissible, to report how far it is
+        pressure = np.maximum(pressure, 0.0)
+        displacement = apply(pressure)
+        gap = base_gap + displacement - delta
+    residual = _residual(gap, pressure > 0, displacement)
+    success = converged and residual < options.residual_tolerance
     solution = ContactSolution(pressure, displacement, gap, float(delta), float(pressure.sum() * cell_area),
                                products[0], float(residual), 0.0, success)
     if not success and options.raise_on_failure:

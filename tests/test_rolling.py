@@ -370,3 +370,11 @@ def test_rolling_results_round_trip_and_resume(tmp_path):
     again = fw.load_result(tmp_path / "steady.h5")
     np.testing.assert_array_equal(again.friction_coefficient, steady_result.friction_coefficient)
     assert isinstance(again.schedule, schedules.Rolling) and again.schedule.steady
+
+
+def test_a_steady_solve_that_does_not_converge_raises():
+    grid = fw.Grid(shape=(40, 40), size=(6 * A0, 6 * A0))
+    with pytest.raises(errors.ConvergenceError, match=r"steady contact solver stopped after 1 active-set iterations"):
+        steady(grid, (speed(0.3), 0.0), options={"max_iterations": 1, "residual_tolerance": 1e-9})
+    result = steady(grid, (speed(0.3), 0.0), options={"max_iterations": 1, "raise_on_failure": False})
+    assert not result.records[0].success
