@@ -27,6 +27,7 @@ bench: $(STAMP)
 	$(PY) -m pip install --quiet tamaas
 	$(PY) bench/elastic_hertz.py
 	$(PY) bench/visco_indentation.py
+	$(PY) bench/rolling.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache
