@@ -323,6 +323,7 @@ class Simulation:
         steady = getattr(schedule, "steady", False)
         if steady:
             operator = SteadyRollingCompliance(grid, series, schedule.velocity)
+            symmetric = operator.symmetric()
             integrator = SteadyMemory(grid.shape)
         else:
             operator = SurfaceCompliance(grid)
@@ -344,7 +345,7 @@ class Simulation:
                              window=operator.window,
                              apply_window=lambda field, box: compliance * operator.apply_window(field, box))
             if steady:
-                solution = solve_steady(operator.apply, heights, load=station.value, **arguments)
+                solution = solve_steady(operator.apply, heights, load=station.value, symmetric=symmetric, **arguments)
             else:
                 solution = solve_normal(
                     lambda p: compliance * operator.apply(p), heights + history_displacement,

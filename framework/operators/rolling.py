@@ -103,33 +103,43 @@ def exponential_filter(kernel, spacing, count, length):
 
 
 def _love_along(grid, axis):
-    """Love's kernel (per unit compliance) at offsets ``x`` along ``axis``, against the wrapped other axis."""
+    """Love's kernel (per unit compliance) at offsets ``x`` along ``axis``, against the other axis's offsets.
+
+    Returns ``(kernel, expand)``: the kernel is even across the motion, so it is
+    evaluated on the distinct ``|offsets|`` of the other axis only, and
+    ``expand(values)`` takes such columns to the wrapped layout of that axis.
+    """
     other = 1 - axis
     (dx1, dx2), shape = grid.spacing, grid.shape
     wrapped = np.nan_to_num(wrapped_offsets(shape[other], grid.spacing[other], False))
-    across, index = np.unique(np.abs(wrapped), return_inverse=True)   # the kernel is even across the motion
+    across, index = np.unique(np.abs(wrapped), return_inverse=True)
     threshold = 300.0 * max(dx1, dx2)
     area = dx1 * dx2
-    a, b = dx1 / 2, dx2 / 2
+    a, b = (dx1 / 2, dx2 / 2)
 
     def kernel(x):
         x = np.asarray(x, dtype=float)[:, None]
         x1, x2 = (x, across[None, :]) if axis == 0 else (across[None, :], x)
-        out = np.empty(np.broadcast_shapes(x1.shape, x2.shape))
+        x1, x2 = np.broadcast_arrays(x1, x2)
         r2 = x1**2 + x2**2
+        out = np.empty(r2.shape)
         far = r2 > threshold**2
-        exact = ~far
         # far away the corner sum cancels catastrophically: the multipole expansion of the cell's
         # mean of 1/(pi r) to second order (relative error (a/r)^4 < 1e-12 at 300 cells)
-        X1, X2, R2 = np.broadcast_to(x1, out.shape)[far], np.broadcast_to(x2, out.shape)[far], r2[far]
-        out[far] = area / np.pi * (1 / np.sqrt(R2) + (a * a * (2 * X1**2 - X2**2) + b * b * (2 * X2**2 - X1**2))
-                                   / (6 * R2**2.5))
-        out[exact] = surface_displacement(np.broadcast_to(x1, out.shape)[exact], np.broadcast_to(x2, out.shape)[exact],
-                                          half1=a, half2=b)
-        out = out[:, index]
+        X1, X2, R2 = x1[far], x2[far], r2[far]
+        inverse = 1 / np.sqrt(R2)
+        out[far] = area / np.pi * inverse * (1 + (a * a * (2 * X1**2 - X2**2) + b * b * (2 * X2**2 - X1**2))
+                                             * inverse**4 / 6)
+        near = ~far
+        out[near] = surface_displacement(x1[near], x2[near], half1=a, half2=b)
+        return out
+
+    def expand(values):
+        out = values[:, index]
         out[:, shape[other]] = 0.0  # the unused offset -n of the wrapped layout
         return out
-    return kernel
+
+    return kernel, expand
 
 
 def _wrap(values, count):
@@ -168,9 +178,9 @@ def steady_rolling_kernel(grid, series, velocity):
                              "infinite; roll it transiently (steady=False) over a finite distance instead")
     n, h = grid.shape[axis], grid.spacing[axis]
     if grid.periodic[1 - axis]:
-        along = mixed_mode_kernel(grid)                      # (x, modes): open axis = the motion axis
+        along, expand = mixed_mode_kernel(grid), None         # (x, modes): open axis = the motion axis
     else:
-        along = _love_along(grid, axis)
+        along, expand = _love_along(grid, axis)
     sign = np.sign(speed)
 
     def oriented(x):                                        # the filter looks ahead, along the motion
@@ -182,6 +192,8 @@ def steady_rolling_kernel(grid, series, velocity):
         total = total + c * exponential_filter(oriented, h, n, abs(speed) * lam)
     if sign < 0:
         total = total[::-1]
+    if expand is not None:
+        total = expand(total)
     wrapped = _wrap(total, n)
     return wrapped if axis == 0 else np.moveaxis(wrapped, 0, 1)
 
@@ -203,4 +215,14 @@ class SteadyRollingCompliance(SurfaceCompliance):
     """
 
     def __init__(self, grid, series, velocity):
-        super().__init__(grid, kernel=steady_rolling_kernel(grid, series, velocity))
+        self.kernel = steady_rolling_kernel(grid, series, velocity)
+        super().__init__(grid, kernel=self.kernel)
+
+    def symmetric(self):
+        """The symmetric part ``(A + A^T)/2``: the kernel averaged with its reflection, a :class:`SurfaceCompliance`.
+
+        Positive definite; the start of the steady solver (conjugate gradients apply to it).
+        """
+        open_axes = tuple(axis for axis in (0, 1) if not self.grid.periodic[axis])
+        reflected = np.roll(np.flip(self.kernel, open_axes), 1, axis=open_axes)  # offset r -> -r, wrapped
+        return SurfaceCompliance(self.grid, kernel=0.5 * (self.kernel + reflected))
