@@ -117,6 +117,10 @@ class Case:
     def line(self):
         return self.body == "cylinder"
 
+    @property
+    def material_name(self):
+        return "PMMA" if self.material is materials.PMMA else "SLS"
+
     def hertz(self, compliance):
         """Hertz contact with the contact compliance ``compliance`` [1/Pa] (relaxed: C*(inf), glassy: c0)."""
         if self.line:
@@ -193,11 +197,6 @@ def steady(case, dimensionless, cells, grid=None):
                          options=OPTIONS).run()
 
 
-def contact_size(case, result):
-    """Contact radius (sphere) or half-width (cylinder) [m] per record."""
-    return result.half_width if case.line else result.contact_radius
-
-
 def transient(case, dimensionless, cells, records=80):
     """Roll from rest (the load applied at t = 0) at ``V T / a0``; returns the run and the steady state on its grid.
 
@@ -236,16 +235,16 @@ def csv_row(case, dimensionless, result):
     """One row of ``rolling_friction.csv``: a sphere's totals, a cylinder's values per unit length."""
     per_length = result.grid.size[1]                    # a line contact's load is per this length
     row = {"case": case.name, "body": case.body,
-           "material": "PMMA" if case.material is materials.PMMA else "SLS",
+           "material": case.material_name,
            "retardation_time_T_s": case.retardation_time, "relaxed_size_a0_m": case.a0,
            "speed_m_per_s": case.speed(dimensionless), "dimensionless_speed_VT_over_a0": dimensionless,
            "friction_coefficient": result.friction_coefficient[0],
            "contact_radius_m": "" if case.line else result.contact_radius[0],
            "half_width_m": result.half_width[0] if case.line else "",
            "max_pressure_Pa": result.max_pressure[0], "pressure_centre_m": result.center[0, 0]}
-    for name, value in (("load", result.load[0]), ("torque", result.torque[0]),
-                        ("dissipated_power", result.dissipated_power[0])):
-        sphere, line = {"load": ("N", "N_per_m"), "torque": ("N_m", "N"), "dissipated_power": ("W", "W_per_m")}[name]
+    for name, value, sphere, line in (("load", result.load[0], "N", "N_per_m"),
+                                      ("torque", result.torque[0], "N_m", "N"),
+                                      ("dissipated_power", result.dissipated_power[0], "W", "W_per_m")):
         row[f"{name}_{sphere}"] = "" if case.line else value
         row[f"{name}_per_length_{line}"] = value / per_length if case.line else ""
     return row
@@ -327,17 +326,13 @@ COLOURS = {"SLS": "tab:blue", "PMMA": "tab:red"}
 WHERE = ("below the peak", "friction peak", "above the peak")
 
 
-def _material_name(case):
-    return "PMMA" if case.material is materials.PMMA else "SLS"
-
-
 def plot_friction(Figure, curves, out):
     figure = Figure(figsize=(12, 5.2), layout="constrained")
     axes = figure.subplots(1, 2, sharey=True)
     for ax, body in zip(axes, ("sphere", "cylinder")):
         size = "b0" if body == "cylinder" else "a0"
         for case in (c for c in CASES if c.body == body):
-            colour = COLOURS[_material_name(case)]
+            colour = COLOURS[case.material_name]
             dimensionless, results = curves[case.name]
             mu = friction(results)
             ax.loglog(dimensionless, mu, "o-", color=colour, markersize=3.5,
