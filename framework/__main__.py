@@ -40,9 +40,17 @@ def write_summary(result, path):
 
 
 def print_table(result, rows=12):
-    """The per-step figures a user looks at first (first and last steps of long runs)."""
-    print(f"{'step':>5} {'time s':>10} {'load N':>10} {'approach m':>12} {'radius m':>11} {'p max Pa':>11} "
-          f"{'tilt rad':>10} {'iter':>5}")
+    """The per-step figures a user looks at first (first and last steps of long runs).
+
+    The contact's size is its radius, or its half-width on a line contact; a
+    rolling run shows its friction coefficient where others show the tilt.
+    """
+    line = result.line_contact
+    rolling = getattr(result.schedule, "velocity", None) is not None
+    size, size_name = (result.half_width, "half-width m") if line else (result.contact_radius, "radius m")
+    last, last_name = (result.friction_coefficient, "friction") if rolling else (result.tilt[:, 0], "tilt rad")
+    print(f"{'step':>5} {'time s':>10} {'load N':>10} {'approach m':>12} {size_name:>12} {'p max Pa':>11} "
+          f"{last_name:>10} {'iter':>5}")
     steps = range(len(result))
     if len(result) > rows:
         steps = list(range(rows // 2)) + [None] + list(range(len(result) - rows // 2, len(result)))
@@ -51,8 +59,7 @@ def print_table(result, rows=12):
             print(f"{'...':>5}")
             continue
         print(f"{k:5d} {result.times[k]:10.4g} {result.load[k]:10.4g} {result.approach[k]:12.5g} "
-              f"{result.contact_radius[k]:11.4g} {result.max_pressure[k]:11.4g} {result.tilt[k, 0]:10.3g} "
-              f"{result.iterations[k]:5d}")
+              f"{size[k]:12.4g} {result.max_pressure[k]:11.4g} {last[k]:10.3g} {result.iterations[k]:5d}")
 
 
 def _viz():
@@ -207,6 +214,15 @@ def _integer(minimum):
 
 
 def main(argv=None):
+    """The command line (see the module docstring); returns the exit code."""
+    try:
+        return _main(argv)
+    except BrokenPipeError:  # the reader went away (``... | head``): stop quietly, as a pipeline expects
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _main(argv):
     from . import scenario as scenarios
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["sweep"]:
@@ -220,14 +236,15 @@ def main(argv=None):
     run.add_argument("--out", default="out", help="output folder (default: out)")
     demo = commands.add_parser("demo", help="run the built-in default scenario")
     demo.add_argument("--out", default="out", help="output folder (default: out)")
-    for command in (run, demo):
+    check = commands.add_parser("check", help="check a scenario file without running it")
+    check.add_argument("scenario")
+    for command in (run, demo, check):
         command.add_argument("--cells", type=_integer(3), default=None,
                              help="replace the grid by CELLS x CELLS cells of the same size (a quick look)")
+    for command in (run, demo):
         command.add_argument("--quiet", action="store_true", help="no progress lines")
     run.add_argument("--resume", action="store_true", help="continue a killed run from DIR/checkpoint.h5")
     run.add_argument("--every", type=_integer(1), default=10, help="steps between checkpoints (default: 10)")
-    check = commands.add_parser("check", help="check a scenario file without running it")
-    check.add_argument("scenario")
     commands.add_parser("sweep", help="run a parametric sweep on Dask (python -m framework sweep -h)")
     args = parser.parse_args(argv)
     try:

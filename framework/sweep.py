@@ -629,7 +629,7 @@ def read_sweep(path):
 
 # --------------------------------------------------------------------------- command line
 
-SHOWN = ("final.load", "final.contact_radius", "final.max_pressure", "wall_time")
+SHOWN = ("final.load", "final.contact_radius", "final.max_pressure", "final.friction_coefficient", "wall_time")
 
 
 def format_table(rows):

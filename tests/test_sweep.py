@@ -163,7 +163,7 @@ def test_a_swept_load_and_the_load_reached_are_two_columns(client, tmp_path):
     assert header[:4] == ["index", "load", "radius", "status"] and "final.load" in header
     table = sw.format_table(rows).splitlines()
     assert table[0].split() == ["#", "load", "radius", "status", "final.load", "final.contact_radius",
-                                "final.max_pressure", "wall_time"]
+                                "final.max_pressure", "final.friction_coefficient", "wall_time"]
     assert table[2].split()[:5] == ["1", "80", "0.01", "done", "80"]
 
 
