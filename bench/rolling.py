@@ -68,13 +68,13 @@ def speed(wake):
 def instrumented():
     """Time the operator build and the steady solve, count active-set iterations, without touching the code.
 
-    ``solve_steady`` calls ``_krylov`` twice per active-set iteration and
+    ``solve_steady`` calls ``_gmres`` twice per active-set iteration and
     ``solve_normal`` once for its symmetric start (module globals, so wrapping
     them here sees every call).
     """
     counts = dict(build=0.0, solve=0.0, krylov=0, start=0.0, start_iterations=0)
     build_operator, solve, krylov, start = (simulation.SteadyRollingCompliance, simulation.solve_steady,
-                                            steady_solver._krylov, steady_solver.solve_normal)
+                                            steady_solver._gmres, steady_solver.solve_normal)
 
     def timed(function, key):
         def wrapper(*args, **kwargs):
@@ -97,7 +97,7 @@ def instrumented():
 
     with mock.patch.object(simulation, "SteadyRollingCompliance", timed(build_operator, "build")), \
             mock.patch.object(simulation, "solve_steady", timed(solve, "solve")), \
-            mock.patch.object(steady_solver, "_krylov", counted_krylov), \
+            mock.patch.object(steady_solver, "_gmres", counted_krylov), \
             mock.patch.object(steady_solver, "solve_normal", counted_start):
         yield counts
 
