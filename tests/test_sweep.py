@@ -375,3 +375,14 @@ def test_read_sweep_file(tmp_path):
         bad.write_text(text)
         with pytest.raises(ScenarioError, match=message):
             sw.read_sweep(bad)
+
+
+def test_the_rolling_sweep_file_builds_every_point():
+    """examples/sweep_rolling.toml: every point is a valid steady rolling simulation (built, not run here)."""
+    builder, parameters, _ = sw.read_sweep(os.path.join(ROOT, "examples", "sweep_rolling.toml"))
+    points = sw.expand(parameters)
+    assert len(points) == 18
+    for point in points:
+        simulation = builder(**point)
+        assert simulation.schedule.steady and simulation.schedule.velocity == tuple(point["schedule.velocity"])
+        assert simulation.schedule.loads == (point["schedule.load"],)
