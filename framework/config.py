@@ -68,7 +68,8 @@ def build(data, *, name="configuration"):
     kwargs = {key: build(value, name=f"{name}.{key}") for key, value in data.items() if key != "type"}
     unknown = set(kwargs) - accepted
     if unknown:
-        raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)} for {kind}; expected some of {sorted(accepted)}")
+        raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)} for {kind}; "
+                             f"expected some of {sorted(accepted)}")
     missing = [p for p in accepted if parameters[p].default is inspect.Parameter.empty and p not in kwargs]
     if missing:
         raise ParameterError(f"{name}: missing required key(s) {missing} for {kind}")

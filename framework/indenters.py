@@ -143,7 +143,8 @@ class RoundedFlatPunch(Indenter):
     edge_radius: float
 
     def __post_init__(self):
-        object.__setattr__(self, "flat_radius", check_quantity(self.flat_radius, name="flat_radius", unit="m", zero=True))
+        object.__setattr__(self, "flat_radius",
+                           check_quantity(self.flat_radius, name="flat_radius", unit="m", zero=True))
         object.__setattr__(self, "edge_radius", check_quantity(self.edge_radius, name="edge_radius", unit="m"))
 
     def height(self, x1, x2):

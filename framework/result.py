@@ -58,10 +58,33 @@ class Result:
         self.records = []
         self._stress_operator = None
         self._stress_cache = (None, None)
+        self._reductions = []
 
     def append(self, record):
-        """Add a finished step."""
+        """Add a finished step (records are appended, never changed)."""
         self.records.append(record)
+
+    def _reduced(self):
+        """Per record, the sums over its pressure that the series need, computed once for each new record.
+
+        Columns: cells in contact, peak pressure, ``sum p``, ``sum p x1``,
+        ``sum p x2``, and for a moving body ``sum p grad h . m`` and
+        ``sum p x . m`` (``m`` the unit vector of the motion; else 0).
+        """
+        cache = self._reductions
+        if len(cache) < len(self.records):
+            x1, x2 = self.grid.coordinates()
+            direction = getattr(self.schedule, "direction", None)
+            if direction is not None:
+                slopes = self.indenter.slopes_on_grid(self.grid)
+                slope = direction[0] * slopes[0] + direction[1] * slopes[1]
+                arm = direction[0] * x1 + direction[1] * x2
+            for record in self.records[len(cache):]:
+                p = record.pressure
+                cache.append((np.count_nonzero(p > 0), p.max(), p.sum(), (p * x1).sum(), (p * x2).sum(),
+                              0.0 if direction is None else (p * slope).sum(),
+                              0.0 if direction is None else (p * arm).sum()))
+        return np.array(cache[: len(self.records)], dtype=float).reshape(-1, 7)
 
     def __len__(self):
         return len(self.records)
@@ -79,7 +102,7 @@ class Result:
     @property
     def contact_area(self):
         """Area of the cells in contact [m^2]."""
-        return np.array([np.count_nonzero(r.pressure > 0) for r in self.records]) * self.grid.cell_area
+        return self._reduced()[:, 0] * self.grid.cell_area
 
     @property
     def line_contact(self):
@@ -112,7 +135,7 @@ class Result:
     @property
     def max_pressure(self):
         """Peak pressure [Pa]."""
-        return np.array([r.pressure.max() for r in self.records])
+        return self._reduced()[:, 1]
 
     @property
     def center(self):
@@ -123,35 +146,21 @@ class Result:
         the indenter's axis, for a centred schedule), so that the series holds
         no NaN.
         """
-        x1, x2 = self.grid.coordinates()
-        applied = tuple(getattr(self.schedule, "offset", (0.0, 0.0)))
-        rows = []
-        for r in self.records:
-            total = r.pressure.sum()
-            rows.append(applied if total == 0 else
-                        ((r.pressure * x1).sum() / total, (r.pressure * x2).sum() / total))
-        return np.array(rows, dtype=float).reshape(-1, 2)
+        reduced = self._reduced()
+        total = reduced[:, 2:3]
+        applied = np.asarray(getattr(self.schedule, "offset", (0.0, 0.0)), dtype=float)
+        return np.where(total > 0, reduced[:, 3:5] / np.where(total > 0, total, 1.0), applied)
 
-    def _motion(self):
-        """The unit vector of the motion ``m`` (None without one) and which records have moved."""
-        velocity = getattr(self.schedule, "velocity", None)
-        if velocity is None:
-            return None, np.zeros(len(self.records), bool)
-        moving = np.ones(len(self.records), bool) if self.schedule.steady else \
-            self.times > self.schedule.motion_start
-        return np.sign(np.asarray(velocity, dtype=float)), moving
+    def _moving(self):
+        """Which records have moved: all of a steady run, those after the start of a transient one, else none."""
+        schedule = self.schedule
+        if getattr(schedule, "velocity", None) is None:
+            return np.zeros(len(self.records), bool)
+        return np.ones(len(self.records), bool) if schedule.steady else self.times > schedule.motion_start
 
-    def _resistance(self, arm):
-        """``sum p (arm . m) dA`` per record, zero for records without motion."""
-        direction, moving = self._motion()
-        out = np.zeros(len(self.records))
-        if direction is None:
-            return out
-        along = direction[0] * arm[0] + direction[1] * arm[1]
-        for k, record in enumerate(self.records):
-            if moving[k]:
-                out[k] = float(np.sum(record.pressure * along)) * self.grid.cell_area
-        return out
+    def _resistance(self, column):
+        """A sum of :meth:`_reduced` times the cell area, zero for the records without motion."""
+        return np.where(self._moving(), self._reduced()[:, column] * self.grid.cell_area, 0.0)
 
     @property
     def friction_coefficient(self):
@@ -163,11 +172,8 @@ class Result:
         motion (THEORY.md sec. 7). Zero without motion (indentation, and the
         rest before a rolling body starts).
         """
-        if self._motion()[0] is None:
-            return np.zeros(len(self.records))
-        slopes = self.indenter.slopes_on_grid(self.grid)
         load = self.load
-        return np.divide(self._resistance(slopes), load, out=np.zeros(len(self.records)), where=load > 0)
+        return np.divide(self._resistance(5), load, out=np.zeros(len(self.records)), where=load > 0)
 
     @property
     def torque(self):
@@ -177,15 +183,12 @@ class Result:
         sphere or a cylinder of radius R it is ``friction_coefficient * W * R``.
         On a line contact it is per grid length along the line (the grid's load).
         """
-        return self._resistance(self.grid.coordinates())
+        return self._resistance(6)
 
     @property
     def dissipated_power(self):
         """Power dissipated in the material ``F_t |V|`` [W] (zero without motion)."""
-        direction, _ = self._motion()
-        if direction is None:
-            return np.zeros(len(self.records))
-        return self.friction_coefficient * self.load * self.schedule.speed
+        return self._resistance(5) * getattr(self.schedule, "speed", 0.0)
 
     @property
     def position(self):

@@ -26,6 +26,20 @@ def _values(value, name):
     return check_finite_array(array, name=name)
 
 
+def _check_range(values, name, times=None):
+    """Loads [N] and approaches [m] are >= 0 and below :data:`LIMITS`; ``times`` [s] locate a bad value."""
+    negative = np.flatnonzero(values < 0)
+    if negative.size:
+        raise ParameterError(f"{name} must be >= 0 at every time, got {float(values[negative[0]])!r}")
+    unit, largest = UNITS[name], LIMITS[UNITS[name]][1]
+    large = np.flatnonzero(values > largest)
+    if large.size:
+        k = large[0]
+        at = "" if times is None else f" at t = {float(times[k]):g} s"
+        raise ParameterError(f"{name} must stay below {largest:g} {unit}, the range this framework accepts, "
+                             f"got {float(values[k])!r} {unit}{at}")
+
+
 def _as_history(values, times, name):
     if values.size == 1:
         return loads.Step(float(values[0]))
@@ -76,13 +90,7 @@ class Static:
         probe = np.concatenate([times, np.asarray(history.jumps + history.kinks, dtype=float)])
         values = np.concatenate([history(probe), history.left(probe)])  # each value and its left limit
         probe = np.concatenate([probe, probe])
-        if np.any(values < 0):
-            raise ParameterError(f"{control} must be >= 0 at every time, got {float(values[values < 0][0])!r}")
-        unit, largest = UNITS[control], LIMITS[UNITS[control]][1]
-        if np.any(values > largest):
-            k = int(np.argmax(values > largest))
-            raise ParameterError(f"{control} must stay below {largest:g} {unit}, the range this framework accepts, "
-                                 f"got {float(values[k])!r} {unit} at t = {float(probe[k]):g} s")
+        _check_range(values, control, probe)
         object.__setattr__(self, "times", times)
         object.__setattr__(self, "history", history)
 
@@ -143,8 +151,9 @@ class Rolling:
       history of the time since the motion began) is followed at these steps.
     * Steady (``steady=True``): the steady state in the body's frame, solved
       directly (:mod:`framework.operators.rolling`, :mod:`framework.steady_solver`):
-      one solve per load, no history. The wake lies in the operator, so the
-      grid need only hold the contact.
+      one solve per load, no history, recorded at the times 0, 1, 2 ... (the
+      load's index, like the default times of a list of loads at rest). The
+      wake lies in the operator, so the grid need only hold the contact.
 
     Refused: oblique motion (velocity along a grid axis only), output times
     that do not fall on whole cells of motion, a distance shorter than a cell;
@@ -207,8 +216,7 @@ class Rolling:
                 raise ParameterError("load of a steady run is a number or a list of loads, one steady state each; "
                                      f"got the history {self.load!r}")
             values = _values(self.load, "load")
-            if np.any(values < 0):
-                raise ParameterError(f"load must be >= 0, got {float(values[values < 0][0])!r}")
+            _check_range(values, "load")
             object.__setattr__(self, "history", None)
             object.__setattr__(self, "loads", tuple(values.tolist()))
             return
@@ -234,8 +242,8 @@ class Rolling:
                 raise ParameterError(f"load of a transient run is a number or a loads history of the time since the "
                                      f"motion began (e.g. loads.Table(times, values)), got {values.size} values")
             history = loads.Step(float(values[0]))
-        if np.any(history(np.array(history.jumps + history.kinks + (0.0,))) < 0):
-            raise ParameterError("load must be >= 0 at every time")
+        probe = np.array(history.jumps + history.kinks + (0.0,))
+        _check_range(np.concatenate([history(probe), history.left(probe)]), "load", np.concatenate([probe, probe]))
         object.__setattr__(self, "history", history)
         object.__setattr__(self, "loads", None)
 

@@ -26,7 +26,7 @@ from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, Para
 from .grid import Grid
 from .history import HereditarySum, PronyRecursion, SteadyMemory
 from .indenters import Indenter
-from .operators.rolling import SteadyRollingCompliance
+from .operators.rolling import SteadyRollingCompliance, check_steady
 from .operators.surface import SurfaceCompliance
 from .result import Result, StepRecord
 from .solver import SolverOptions, solve_normal
@@ -143,7 +143,7 @@ def _check_count(count, last):
 
 def _rolling_stations(schedule, grid, refine=True):
     """The stations of a rolling run: the rest indentation, then one per cell of motion (transient),
-    or one per load (steady)."""
+    or one per load (steady, at the times 0, 1, 2 ..., like the default times of a list of loads)."""
     if schedule.steady:
         return [Station(float(k), value, True) for k, value in enumerate(schedule.loads)]
     axis, speed = schedule.axis, schedule.speed
@@ -175,10 +175,11 @@ def _rolling_stations(schedule, grid, refine=True):
     begin = schedule.motion_start
     _check_count(len(stations) + count + 1, begin + count * step)
     value = float(schedule.history(0.0))
-    if not stations or not math.isclose(stations[-1].value, value, rel_tol=1e-9) or 0 in outputs:
-        if stations and stations[-1].recorded and 0 in outputs:
-            outputs.discard(0)   # the rest indentation at the motion's start is the start's last record
-        stations.append(Station(begin, value, 0 in outputs))
+    if stations and math.isclose(stations[-1].value, value, rel_tol=1e-9):
+        if 0 in outputs and not stations[-1].recorded:   # the start's last station is the rest at the motion's start
+            stations[-1] = replace(stations[-1], recorded=True)
+    else:  # (a start's last station is recorded already: one record per time)
+        stations.append(Station(begin, value, 0 in outputs and not (stations and stations[-1].recorded)))
     shift = [0, 0]
     shift[axis] = -int(np.sign(schedule.velocity[axis]))  # the material moves against the body, a cell a step
     loads_at = schedule.history(np.arange(1, count + 1) * step)
@@ -198,7 +199,7 @@ class Simulation:
         The half-space.
     indenter : indenters.Indenter
         The rigid body.
-    schedule : schedules.Static
+    schedule : schedules.Static, schedules.Eccentric or schedules.Rolling
         What happens in time.
     inclusions : None
         Inhomogeneities (not available yet: must be None).
@@ -255,12 +256,14 @@ class Simulation:
         self._timeline = stations
         self.output_times = np.array([station.time for station in stations if station.recorded])
         if series.c0 <= 0:
+            where = " (a rolling run: as its load, or as start=schedules.Static(load=loads.Ramp(...)))"
             for before, after in zip([Station(0.0, 0.0, False)] + stations, stations):
                 if after.time == before.time and after.value != before.value:
                     raise ParameterError(
                         f"the material has no instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, a Kelvin-Voigt "
                         f"solid): the {schedule.control} cannot change suddenly, as it does at t = {after.time:g} s "
-                        f"(from {before.value:g} to {after.value:g}); use a Ramp or a Table that starts from zero")
+                        f"(from {before.value:g} to {after.value:g}); use a Ramp or a Table that starts from zero"
+                        f"{where if rolling else ''}")
         if rolling:
             self._check_rolling()
 
@@ -269,19 +272,7 @@ class Simulation:
         grid, schedule, series = self.grid, self.schedule, self._series
         axis = schedule.axis
         if schedule.steady:
-            if grid.periodic[axis]:
-                raise ParameterError(f"velocity: a steady state is solved along an open grid axis; axis {axis} of "
-                                     f"the grid is periodic (periodic={grid.periodic}): make it open, or roll "
-                                     f"transiently (the material then comes round again)")
-            if series.flow:
-                raise ParameterError(
-                    "material: a fluid (a Maxwell material, flow > 0) has no steady rolling state: the groove its flow "
-                    "leaves behind the body deepens without bound, so the approach is infinite; roll it transiently "
-                    "(steady=False) over a finite distance instead")
-            if series.c0 <= 0:
-                raise ParameterError(
-                    f"material: a solid without instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, Kelvin-Voigt) "
-                    f"has no bounded steady rolling pressure (it jumps at the leading edge); roll it transiently")
+            check_steady(grid, series, schedule.velocity)
             return
         if grid.periodic[axis] or series.flow:
             return  # the material comes round again; a fluid's groove never ends: no wake fits either
@@ -291,7 +282,7 @@ class Simulation:
         duration = stations[-1].time
         compliance = float(series(duration))
         load = max(station.value for station in stations)
-        operator = SurfaceCompliance(grid)
+        self._surface = operator = SurfaceCompliance(grid)     # the stepper's own, reused
         contact = solve_normal(lambda p: compliance * operator.apply(p), self._heights, cell_area=grid.cell_area,
                                load=load, options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4,
                                                                 raise_on_failure=False),
@@ -326,7 +317,7 @@ class Simulation:
             symmetric = operator.symmetric()
             integrator = SteadyMemory(grid.shape)
         else:
-            operator = SurfaceCompliance(grid)
+            operator = getattr(self, "_surface", None) or SurfaceCompliance(grid)
             integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         self._integrator, start, index = integrator, 0, 0
         if state is not None:
@@ -350,7 +341,7 @@ class Simulation:
                 solution = solve_normal(
                     lambda p: compliance * operator.apply(p), heights + history_displacement,
                     load=station.value if load_control else None, approach=None if load_control else station.value,
-                    offset=offset, coordinates=coordinates, **arguments)
+                    offset=offset, coordinates=coordinates, diagonal=compliance * operator.diagonal, **arguments)
             if options.check_edges:
                 _check_edges(solution.pressure, grid, station.time, station.value, schedule.control)
             integrator.commit(station.time, solution.pressure)

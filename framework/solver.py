@@ -145,7 +145,8 @@ def _residual(gap, contact, displacement):
 
 
 def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initial=None,
-                 options=SolverOptions(), window=None, apply_window=None, offset=None, coordinates=None):
+                 options=SolverOptions(), window=None, apply_window=None, offset=None, coordinates=None,
+                 diagonal=None):
     """Solve the frictionless normal contact by conjugate gradients.
 
     Parameters
@@ -174,6 +175,10 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         Load control only: the load acts at ``offset = (e1, e2)`` [m] from the
         origin, and the indenter tilts; ``coordinates`` are the cell centres
         ``(X1, X2)`` [m]. The solution's ``slopes`` are the tilts.
+    diagonal : float, optional
+        Displacement [m/Pa] of a cell under its own unit pressure (the
+        operator's diagonal), which scales the re-entry of cells; computed
+        with one product when not given.
 
     Returns
     -------
@@ -205,28 +210,31 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     else:  # the interpenetration, scaled so that its displacement matches it at the peak
         pressure = np.maximum(approach - base_gap, 0.0)
         pressure *= (approach - touch) / apply(pressure).max()
-    if load_control and not modes.restore(pressure, targets, cell_area) and modes.tilt:
-        # A body that tilts carries the load about its point of application (a sphere rolls its
-        # contact there), which the cells nearest the lowest point may not surround: start from the
-        # smallest disc of cells around the offset that carries the load and both moments.
-        distance = np.hypot(coordinates[0] - offset[0], coordinates[1] - offset[1])
-        for radius in 1.5 * np.sqrt(cell_area) * 2.0 ** np.arange(16):
-            pressure = np.where(distance <= radius, 1.0, 0.0)
-            if modes.restore(pressure, targets, cell_area) or radius > distance.max():
-                break
-    if load_control and not modes.restore(pressure, targets, cell_area):
-        raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
+    if load_control:
+        carried = modes.restore(pressure, targets, cell_area)
+        if not carried and modes.tilt:
+            # A body that tilts carries the load about its point of application (a sphere rolls its
+            # contact there), which the cells nearest the lowest point may not surround: start from the
+            # smallest disc of cells around the offset that carries the load and both moments.
+            distance = np.hypot(coordinates[0] - offset[0], coordinates[1] - offset[1])
+            for radius in 1.5 * np.sqrt(cell_area) * 2.0 ** np.arange(16):
+                pressure = np.where(distance <= radius, 1.0, 0.0)
+                carried = modes.restore(pressure, targets, cell_area)
+                if carried or radius > distance.max():
+                    break
+        if not carried:
+            raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
 
     coefficients = (0.0, 0.0, 0.0)
-    diagonal = []
 
     def self_compliance():
         """Displacement of a cell under its own unit pressure (the operator is a convolution: any cell)."""
-        if not diagonal:
+        nonlocal diagonal
+        if diagonal is None:
             unit = np.zeros_like(base_gap)
             unit.flat[0] = 1.0
-            diagonal.append(float(apply(unit).flat[0]))
-        return diagonal[0]
+            diagonal = float(apply(unit).flat[0])
+        return diagonal
 
     direction = np.zeros_like(pressure)
     norm_old, conjugate = 1.0, False
@@ -275,7 +283,9 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         # would close it in a cell alone (its own compliance), which is the step when there is none.
         overlap = ~contact & (gap < 0)
         conjugate = not overlap.any()
-        entry = 0.0 if conjugate else min(step, 1.0 / self_compliance()) if step > 0 else 1.0 / self_compliance()
+        entry = 0.0
+        if not conjugate:
+            entry = 1.0 / self_compliance() if step <= 0 else min(step, 1.0 / self_compliance())
         previous = pressure
         # Under load control the step must leave a pressure that can carry the load (and, with a
         # tilt, both moments: not every clipped step can): halve it until it does.
@@ -284,8 +294,8 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
             pressure[overlap] = -0.5**halving * entry * gap[overlap]
             if not load_control or modes.restore(pressure, targets, cell_area):
                 break
-        else:
-            pressure = previous
+        else:  # even a vanishing step leaves no pressure that carries the load (previous did: not reached)
+            raise LoadNotCarriedError(_not_carried(load, offset, previous > 0))
         if halving:  # the step was cut: the conjugate directions are lost, restart them
             conjugate = False
         change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)

@@ -48,7 +48,8 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
     options : SolverOptions
         ``residual_tolerance`` (complementarity, relative to the largest
         displacement) and ``max_iterations`` (active-set iterations); the
-        inner GMRES solves go 100 times below the residual tolerance.
+        inner GMRES solves go 100 times below the residual tolerance (not
+        below 1e-13).
     window, apply_window : callable, optional
         As for :func:`framework.solver.solve_normal`: the products on the
         contact set are computed on a box around it.
@@ -76,7 +77,7 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
             windows = {}
         else:
             apply_symmetric = symmetric.apply
-            windows = dict(window=symmetric.window, apply_window=symmetric.apply_window)
+            windows = dict(window=symmetric.window, apply_window=symmetric.apply_window, diagonal=symmetric.diagonal)
         initial = solve_normal(apply_symmetric, base_gap, cell_area=cell_area, load=load,
                                options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4, max_iterations=500,
                                                      raise_on_failure=False), **windows).pressure
@@ -85,8 +86,8 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
     products = [0]
     seen = set()
     pivoting = False
-    pressure = np.zeros_like(base_gap)
-    inner = 1e-2 * options.residual_tolerance
+    pressure = np.array(initial, dtype=float)
+    inner = max(1e-2 * options.residual_tolerance, 1e-13)   # GMRES gets no closer than rounding
     delta, converged = 0.0, False
     for iteration in range(options.max_iterations):
         box = window(contact) if window is not None else whole
@@ -100,8 +101,13 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
             return out[cells]
 
         size = int(cells.sum())
-        z = _gmres(product, -base_gap[box][cells], inner, (z_field if iteration else initial)[box][cells])
-        y = _gmres(product, np.ones(size), inner, y_field[box][cells] if iteration else None)
+        try:
+            z = _gmres(product, -base_gap[box][cells], inner, (z_field if iteration else initial)[box][cells])
+            y = _gmres(product, np.ones(size), inner, y_field[box][cells] if iteration else None)
+        except ConvergenceError:
+            if options.raise_on_failure:
+                raise
+            break   # reported below, with the last admissible iterate
         # sum(y) may take either sign: a plane-strain kernel is defined up to a constant (its value far
         # away), which shifts the approach, not the pressure; only sum(y) = 0 leaves the approach undefined
         if y.sum() == 0 or not np.isfinite(y.sum()):

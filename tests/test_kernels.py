@@ -189,3 +189,13 @@ def test_surface_displacement_far_field(half1, half2):
         u = surface_displacement(r * np.cos(angle), r * np.sin(angle), half1=half1, half2=half2)
         point_force = 4.0 * half1 * half2 / (np.pi * r)
         assert np.max(np.abs(u / point_force - 1.0)) < (half1**2 + half2**2) / r**2
+
+
+@pytest.mark.parametrize("distance", [200.0, 350.0, 3000.0, 3e5])
+def test_surface_displacement_far_away_against_quadrature(distance):
+    """Far from the cell the corner sum cancels; the multipole takes over beyond 300 cells: both meet quadrature."""
+    from scipy import integrate
+    x1, x2 = 0.6 * distance, 0.8 * distance
+    value = integrate.dblquad(lambda t, s: 1 / (np.pi * np.hypot(x1 - s, x2 - t)), -0.5, 0.5, -0.5, 0.5,
+                              epsabs=0, epsrel=1e-13)[0]
+    assert surface_displacement(x1, x2, half1=0.5, half2=0.5) == pytest.approx(value, rel=2e-10)

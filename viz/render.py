@@ -744,7 +744,8 @@ def _step_line(result, k, time):
     if getattr(schedule, "velocity", None) is None:
         return f"step {k}, t = {_format_time(time)}, {line}"
     if schedule.steady:
-        return f"step {k}, steady rolling at {schedule.speed:.4g} m/s, {line}, \u03bc = {result.friction_coefficient[k]:.3g}"
+        return (f"step {k}, steady rolling at {schedule.speed:.4g} m/s, {line}, "
+                f"\u03bc = {result.friction_coefficient[k]:.3g}")
     rolled = float(np.linalg.norm(result.position[k]))
     return (f"step {k}, t = {_format_time(time)}, rolled {_length(rolled) if rolled else '0'}, {line}, "
             f"\u03bc = {result.friction_coefficient[k]:.3g}")

@@ -77,7 +77,7 @@ class ComplianceSeries:
         return self.mean(start, end) if self.linear_steps else self(end)
 
     def step_weights(self, dt):
-        """Per term, ``step_response``'s weight of ``exp(-s/lambda_k)``: how much of a step's change a history field takes up.
+        """Per term, how much of a step's change of pressure a history field takes up (``step_response``'s weight).
 
         ``(lambda_k/dt)(1 - exp(-dt/lambda_k))`` (1 when ``dt = 0``) for linear
         steps, ``exp(-dt/lambda_k)`` otherwise, so that

@@ -267,12 +267,12 @@ class Viscoelastic:
     terms : sequence of (float, float)
         ``[(E_i [Pa], tau_i [s]), ...]``, moduli and relaxation times > 0, times
         distinct. Stored sorted by ascending ``tau_i``. May be empty (elastic).
+    poisson : float
+        Constant Poisson ratio in (-1, 0.5].
 
     Moduli lie between 1e-3 and 1e15 Pa (a term's modulus may be smaller: a term
     too weak to resolve in double precision is refused by name) and times
     between 1e-15 and 1e15 s (``framework._validation.LIMITS``).
-    poisson : float
-        Constant Poisson ratio in (-1, 0.5].
     """
 
     e_inf: float

@@ -100,12 +100,27 @@ def surface_displacement(x1, x2, *, half1, half2):
 
     over the four corners ``X = x1 -+ half1``, ``Y = x2 -+ half2``; this
     equals the classical ``X ln(Y+R) + Y ln(X+R)`` up to terms that cancel
-    in the corner sum.
+    in the corner sum. Far away the corner sum cancels: it loses ``(r/dx)^2``
+    of its digits (1e-10 at 300 cells, 1e-6 at 3e5). Beyond 300 cell sizes
+    the mean of ``1/(pi r)`` over the rectangle is taken from its multipole
+    expansion instead, ``(4ab/pi)[1/r + (a^2 (2x1^2 - x2^2) + b^2 (2x2^2 -
+    x1^2))/(6 r^5)]`` (``a, b`` the half-widths), whose next term is
+    ``(a/r)^4 < 1e-12`` relative there.
     """
     half1 = check_positive(half1, name="half1", unit="m")
     half2 = check_positive(half2, name="half2", unit="m")
-    x1, x2 = np.asarray(x1, dtype=float), np.asarray(x2, dtype=float)
-    return _corner_sum(lambda X, Y: _x_asinh(X, Y) + _x_asinh(Y, X), x1, x2, half1, half2) / np.pi
+    x1, x2 = np.broadcast_arrays(np.asarray(x1, dtype=float), np.asarray(x2, dtype=float))
+    r2 = x1**2 + x2**2
+    far = r2 > (600.0 * max(half1, half2)) ** 2
+    if not far.any():
+        return _corner_sum(lambda X, Y: _x_asinh(X, Y) + _x_asinh(Y, X), x1, x2, half1, half2) / np.pi
+    out = np.empty(r2.shape)
+    near = ~far
+    out[near] = _corner_sum(lambda X, Y: _x_asinh(X, Y) + _x_asinh(Y, X), x1[near], x2[near], half1, half2) / np.pi
+    X1, X2, inverse = x1[far], x2[far], 1 / np.sqrt(r2[far])
+    out[far] = 4 * half1 * half2 / np.pi * inverse * (
+        1 + (half1**2 * (2 * X1**2 - X2**2) + half2**2 * (2 * X2**2 - X1**2)) * inverse**4 / 6)
+    return out
 
 
 def _stress_corner_term(X, Y, z, nu):

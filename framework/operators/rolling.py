@@ -113,26 +113,11 @@ def _love_along(grid, axis):
     (dx1, dx2), shape = grid.spacing, grid.shape
     wrapped = np.nan_to_num(wrapped_offsets(shape[other], grid.spacing[other], False))
     across, index = np.unique(np.abs(wrapped), return_inverse=True)
-    threshold = 300.0 * max(dx1, dx2)
-    area = dx1 * dx2
-    a, b = (dx1 / 2, dx2 / 2)
 
     def kernel(x):
         x = np.asarray(x, dtype=float)[:, None]
         x1, x2 = (x, across[None, :]) if axis == 0 else (across[None, :], x)
-        x1, x2 = np.broadcast_arrays(x1, x2)
-        r2 = x1**2 + x2**2
-        out = np.empty(r2.shape)
-        far = r2 > threshold**2
-        # far away the corner sum cancels catastrophically: the multipole expansion of the cell's
-        # mean of 1/(pi r) to second order (relative error (a/r)^4 < 1e-12 at 300 cells)
-        X1, X2, R2 = x1[far], x2[far], r2[far]
-        inverse = 1 / np.sqrt(R2)
-        out[far] = area / np.pi * inverse * (1 + (a * a * (2 * X1**2 - X2**2) + b * b * (2 * X2**2 - X1**2))
-                                             * inverse**4 / 6)
-        near = ~far
-        out[near] = surface_displacement(x1[near], x2[near], half1=a, half2=b)
-        return out
+        return surface_displacement(x1, x2, half1=dx1 / 2, half2=dx2 / 2)
 
     def expand(values):
         out = values[:, index]
@@ -148,6 +133,30 @@ def _wrap(values, count):
     wrapped[:count] = values[count - 1:]
     wrapped[count + 1:] = values[: count - 1]
     return wrapped
+
+
+def check_steady(grid, series, velocity):
+    """Raise unless a steady state exists for this grid, material and motion; return the motion's axis.
+
+    The motion must run along an open grid axis; a fluid (``flow > 0``) has no
+    steady state (its groove deepens without bound), and a solid without
+    instantaneous compliance (Kelvin-Voigt) no bounded pressure (it jumps at
+    the leading edge).
+    """
+    axis = 0 if velocity[1] == 0 else 1
+    if grid.periodic[axis]:
+        raise ParameterError(f"velocity: a steady state is solved along an open grid axis; axis {axis} of the grid "
+                             f"is periodic (periodic={grid.periodic}): make it open, or roll transiently (the "
+                             f"material then comes round again)")
+    if series.flow:
+        raise ParameterError("material: a fluid (a Maxwell material, flow > 0) has no steady rolling state: the "
+                             "groove its flow leaves behind the body deepens without bound, so the approach is "
+                             "infinite; roll it transiently (steady=False) over a finite distance instead")
+    if series.c0 <= 0:
+        raise ParameterError(f"material: a solid without instantaneous compliance (C*(0) = {series.c0:g} 1/Pa, "
+                             f"Kelvin-Voigt) has no bounded steady rolling pressure (it jumps at the leading edge); "
+                             f"roll it transiently")
+    return axis
 
 
 def steady_rolling_kernel(grid, series, velocity):
@@ -167,15 +176,8 @@ def steady_rolling_kernel(grid, series, velocity):
     ndarray
         The kernel in the layout :class:`SurfaceCompliance` takes (``kernel=``).
     """
-    axis = 0 if velocity[1] == 0 else 1
+    axis = check_steady(grid, series, velocity)
     speed = float(velocity[axis])
-    if grid.periodic[axis]:
-        raise ParameterError(f"velocity: a steady state is solved along an open grid axis; axis {axis} of the grid "
-                             f"is periodic (periodic={grid.periodic})")
-    if series.flow:
-        raise ParameterError("material: a fluid (a Maxwell material, flow > 0) has no steady rolling state: the "
-                             "groove its flow leaves behind the body deepens without bound, so the approach is "
-                             "infinite; roll it transiently (steady=False) over a finite distance instead")
     n, h = grid.shape[axis], grid.spacing[axis]
     if grid.periodic[1 - axis]:
         along, expand = mixed_mode_kernel(grid), None         # (x, modes): open axis = the motion axis

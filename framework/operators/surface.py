@@ -3,6 +3,7 @@ import numpy as np
 from scipy.special import iti0k0
 
 from .. import fft
+from ..errors import ParameterError
 from .convolution import Convolution, wrapped_offsets
 from .kernels import surface_displacement
 
@@ -44,6 +45,9 @@ class SurfaceCompliance:
         periodic = grid.periodic
         self._windows = {}
         if all(periodic):
+            if kernel is not None:
+                raise ParameterError("kernel: a doubly periodic grid takes the spectral kernel 2/|q| only; "
+                                     f"another kernel needs an open axis, got periodic={grid.periodic}")
             spectrum = self._periodic_spectrum(grid)
         elif any(periodic):
             spectrum = _mixed_spectrum(grid, _mixed_kernel(grid) if kernel is None else kernel)
@@ -72,6 +76,18 @@ class SurfaceCompliance:
         with np.errstate(divide="ignore"):
             spectrum = np.where(q > 0, 2.0 / q, 0.0)
         return spectrum
+
+    @property
+    def diagonal(self):
+        """``K * p`` at a cell under its own unit pressure (the same at every cell): the operator's diagonal."""
+        if getattr(self, "_diagonal", None) is None:
+            if hasattr(self, "_kernel"):
+                self._diagonal = float(self._kernel[0, 0])
+            else:
+                unit = np.zeros(self.grid.shape)
+                unit[0, 0] = 1.0
+                self._diagonal = float(self.apply(unit)[0, 0])
+        return self._diagonal
 
     def apply(self, pressure):
         """``K * p`` [Pa m] for a pressure field ``(n1, n2)`` [Pa]."""

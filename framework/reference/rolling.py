@@ -524,9 +524,10 @@ def steady_line_contact(radius, load_per_length, velocity, material, half_length
         Velocity V of the body along x1 over the material [m/s]; 0 gives the
         relaxed elastic contact, a negative value the motion towards -x1.
     material : material
-        Any framework material whose ``contact_compliance()`` is bounded
-        (elastic, viscoelastic, Kelvin-Voigt); a fluid (Maxwell) has no steady
-        state in plane strain and is refused.
+        Any framework material with an instantaneous compliance whose
+        ``contact_compliance()`` is bounded (elastic, viscoelastic); a fluid
+        (Maxwell) has no steady state in plane strain and a Kelvin-Voigt solid
+        no bounded pressure: both are refused.
     half_length : float
         Half-length of the discretised interval [m]; it must hold the contact
         (no wake is needed: it is inside the filtered kernel).
@@ -611,8 +612,9 @@ def steady_sphere(radius, load, velocity, material, half_size, cells):
         Velocity V of the body along x1 over the material [m/s]; 0 gives the
         relaxed elastic contact, a negative value the motion towards -x1.
     material : material
-        Any framework material whose ``contact_compliance()`` is bounded
-        (elastic, viscoelastic, Kelvin-Voigt); a fluid (Maxwell) is refused.
+        Any framework material with an instantaneous compliance whose
+        ``contact_compliance()`` is bounded (elastic, viscoelastic); a fluid
+        (Maxwell) and a Kelvin-Voigt solid are refused.
     half_size : float
         Half-side of the square grid [m]; it must hold the contact.
     cells : int
