@@ -159,14 +159,11 @@ class Case:
 
     def low_speed_slope(self):
         """``d mu / dV`` [s/m] at V = 0: ``sum c_k lambda_k / (R C*(inf))`` (sphere and cylinder alike)."""
-        series = self.series
-        return float(np.sum(series.coefficients * series.times) / (RADIUS * series.relaxed))
+        return reference.low_speed_friction_slope(self.material, RADIUS)
 
     def high_speed_coefficient(self):
         """``mu V`` [m/s] as V -> inf (sphere): ``(4/5) a_g**2 / (R c0) sum c_k / lambda_k``."""
-        series = self.series
-        glassy = self.size(series.c0)
-        return float(0.8 * glassy**2 / (RADIUS * series.c0) * np.sum(series.coefficients / series.times))
+        return reference.high_speed_sphere_friction(self.material, RADIUS, self.load, 1.0)
 
 
 CASES = (

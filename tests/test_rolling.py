@@ -72,11 +72,22 @@ def test_low_speed_friction_follows_the_perturbation_of_hertz():
     cells, dx = 512, half_width / 128
     grid = fw.Grid(shape=(cells, 4), size=(cells * dx, 4 * dx), periodic=(False, True))
     cylinder = indenters.Cylinder(radius=RADIUS, axis=1)
-    slope = SERIES.coefficients[0] * RETARDATION / (RADIUS * SERIES.relaxed)
+    slope = reference.low_speed_friction_slope(SOLID, RADIUS)
+    assert slope == pytest.approx(SERIES.coefficients[0] * RETARDATION / (RADIUS * SERIES.relaxed), rel=1e-14)
     v = 0.02 * half_width / RETARDATION
     mu = [steady(grid, (k * v, 0.0), indenter=cylinder, load=load_per_length * grid.size[1]).friction_coefficient[0]
           for k in (1, 2)]
     assert (4 * mu[0] - mu[1]) / (2 * v) == pytest.approx(slope, rel=0.01)
+
+
+def test_high_speed_friction_follows_the_glassy_asymptote():
+    """mu -> (4/5) a_g^2 / (R c0) sum c_k / (lambda_k V) (framework/reference/rolling.py): within 1 % at
+    V lambda = 1000 a0, 24 cells per glassy radius (measured +0.8 %, -0.8 %, +0.01 % at 12, 16, 24)."""
+    glassy = reference.HertzSphere(radius=RADIUS, load=LOAD, contact_modulus=1 / SERIES.c0)
+    v = speed(1e3)
+    result = steady(grid_for(glassy.contact_radius, 24, along=1.6, across=1.6), (v, 0.0))
+    asymptote = reference.high_speed_sphere_friction(SOLID, RADIUS, LOAD, v)
+    assert result.friction_coefficient[0] == pytest.approx(asymptote, rel=0.01)
 
 
 def test_elastic_rolling_has_no_friction_and_is_the_static_contact():

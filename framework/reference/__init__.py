@@ -17,7 +17,8 @@ from .boussinesq import (point_load_displacement, point_load_stress, rectangle_d
 from .hertz import HertzCylinder, HertzSphere
 from .plane_strain import hertz_line_stress, line_load_stress, plane_strain_stress_by_quadrature, strip_stress
 from .punch import FlatPunch, RoundedFlatPunch
-from .rolling import SteadyLineContact, SteadySphereContact, steady_line_contact, steady_sphere
+from .rolling import (SteadyLineContact, SteadySphereContact, high_speed_sphere_friction, low_speed_friction_slope,
+                      steady_line_contact, steady_sphere)
 from .viscoelastic import (TingSolution, lee_radok_load_for_approach, lee_radok_ramp_load,
                            lee_radok_step_approach_load, lee_radok_step_load, lee_radok_step_load_pressure,
                            ting_contact_radius)
@@ -29,4 +30,5 @@ __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Ste
            "lee_radok_step_load_pressure", "ting_contact_radius",
            "point_load_displacement", "point_load_stress", "rectangle_displacement_by_quadrature",
            "rectangle_stress_by_quadrature", "hertz_line_stress", "line_load_stress",
-           "plane_strain_stress_by_quadrature", "strip_stress", "steady_line_contact", "steady_sphere"]
+           "plane_strain_stress_by_quadrature", "strip_stress", "steady_line_contact", "steady_sphere",
+           "low_speed_friction_slope", "high_speed_sphere_friction"]

@@ -147,7 +147,8 @@ import numpy as np
 from .._validation import check_positive, check_positive_int, check_real
 from ..errors import ConvergenceError, GridTooSmallError, ParameterError
 
-__all__ = ["SteadyLineContact", "SteadySphereContact", "steady_line_contact", "steady_sphere"]
+__all__ = ["SteadyLineContact", "SteadySphereContact", "steady_line_contact", "steady_sphere",
+           "low_speed_friction_slope", "high_speed_sphere_friction"]
 
 #: The filter integral stops at ``sigma = 40``: ``exp(-40) = 4e-18``.
 _SIGMA_END = 40.0
@@ -662,3 +663,54 @@ def steady_sphere(radius, load, velocity, material, half_size, cells):
                                **_motion_summary(x, pressure[:, cells // 2], spacing,
                                                  np.sum(pressure * x1) * cell_area, radius, load, velocity),
                                iterations=iterations, residual=float(residual))
+
+
+# --------------------------------------------------------------------------- asymptotes
+
+
+def low_speed_friction_slope(material, radius):
+    """``d mu / dV`` [s/m] at ``V = 0``: ``sum_k c_k lambda_k / (R C*(inf))``, sphere and cylinder alike.
+
+    The first order of the perturbation of the relaxed Hertz contact (module
+    docstring, "Low speed"): ``mu = V sum_k c_k lambda_k / (R C*(inf)) + O(V^2)``.
+
+    Parameters
+    ----------
+    material : material
+        A solid (no flow term) with its ``contact_compliance()``.
+    radius : float
+        Radius R of the sphere or cylinder [m].
+    """
+    series = material.contact_compliance()
+    if series.flow:
+        raise ParameterError("material: a fluid has no relaxed compliance, so no low-speed friction slope")
+    radius = check_positive(radius, name="radius", unit="m")
+    return float(np.sum(series.coefficients * series.times) / (radius * series.relaxed))
+
+
+def high_speed_sphere_friction(material, radius, load, velocity):
+    """The sphere's friction coefficient as ``V -> inf``: ``(4/5) a_g^2 / (R c0) sum_k c_k / (lambda_k |V|)``.
+
+    The first order in ``1/V`` about the glassy Hertz contact of radius
+    ``a_g = (3 W R c0 / 4)^(1/3)`` (module docstring, "High speed").
+
+    Parameters
+    ----------
+    material : material
+        A solid with an instantaneous compliance ``c0 > 0``.
+    radius : float
+        Sphere radius R [m].
+    load : float
+        Normal load W [N].
+    velocity : float
+        Speed [m/s] (either sign).
+    """
+    series = material.contact_compliance()
+    if series.c0 <= 0:
+        raise ParameterError("material: without an instantaneous compliance there is no glassy contact")
+    radius = check_positive(radius, name="radius", unit="m")
+    load = check_positive(load, name="load", unit="N")
+    speed = abs(check_real(velocity, name="velocity"))
+    glassy = (0.75 * load * radius * series.c0) ** (1 / 3)
+    return float(0.8 * glassy**2 / (radius * series.c0) * np.sum(series.coefficients / series.times) / speed)
+
