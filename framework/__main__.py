@@ -250,8 +250,8 @@ def _main(argv):
     try:
         path = scenarios.demo_path() if args.command == "demo" else args.scenario
         scenario = scenarios.read(path, cells=getattr(args, "cells", None))
-        check_output(scenario)
-        if args.command == "check":
+        if args.command == "check":   # run_scenario checks the same before it writes anything
+            check_output(scenario)
             print(f"{path}: ok ({len(scenario.simulation.output_times)} steps on a "
                   f"{scenario.simulation.grid.shape} grid)")
             return 0

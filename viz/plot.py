@@ -110,8 +110,9 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
         raise ParameterError("the result has no steps to plot")
     figure_module = _deps.require("matplotlib.figure")
     xlabel, xunit = AGAINST[against]
-    x_scale, xunit = display_unit(xunit, _magnitude(_abscissa(result, against)))
-    x = _abscissa(result, against) / x_scale
+    x = _abscissa(result, against)
+    x_scale, xunit = display_unit(xunit, _magnitude(x))
+    x = x / x_scale
     positive = x[x > 0]
     if xscale is None:
         xscale = "linear"

@@ -542,7 +542,7 @@ def steady_line_contact(radius, load_per_length, velocity, material, half_length
     Raises
     ------
     ParameterError
-        For a bad parameter or a fluid.
+        For a bad parameter, a fluid or a solid without instantaneous compliance.
     GridTooSmallError
         When the contact reaches either end of the interval.
     ConvergenceError
@@ -628,7 +628,7 @@ def steady_sphere(radius, load, velocity, material, half_size, cells):
     Raises
     ------
     ParameterError
-        For a bad parameter or a fluid.
+        For a bad parameter, a fluid or a solid without instantaneous compliance.
     GridTooSmallError
         When the contact reaches the edge of the grid.
     ConvergenceError
