@@ -69,20 +69,24 @@ def use_backend(name):
         set_backend(previous)
 
 
-def _plan(kind, shape):
-    key = (kind, shape, THREADS)
+def _plan(kind, shape, dims=2):
+    key = (kind, shape, THREADS, dims)
     plan = _plans.get(key)
     if plan is None:
+        axes = tuple(range(-dims, 0))
+        # Measuring plans pays off for the many small 2-D transforms of a contact solve; a 3-D
+        # transform of an eigenstrain box runs a few hundred times and would wait seconds for it.
+        effort = "FFTW_MEASURE" if dims == 2 else "FFTW_ESTIMATE"
         if kind == "forward":
             buffer = pyfftw.empty_aligned(shape, dtype="float64")
-            plan = pyfftw.builders.rfftn(buffer, axes=(-2, -1), threads=THREADS,
-                                         planner_effort="FFTW_MEASURE", auto_align_input=True)
+            plan = pyfftw.builders.rfftn(buffer, axes=axes, threads=THREADS,
+                                         planner_effort=effort, auto_align_input=True)
         else:
             real_shape = shape[:-1]
             spectral = real_shape[:-1] + (real_shape[-1] // 2 + 1,)
             buffer = pyfftw.empty_aligned(spectral, dtype="complex128")
-            plan = pyfftw.builders.irfftn(buffer, s=real_shape[-2:], axes=(-2, -1), threads=THREADS,
-                                          planner_effort="FFTW_MEASURE", auto_align_input=True)
+            plan = pyfftw.builders.irfftn(buffer, s=real_shape[-dims:], axes=axes, threads=THREADS,
+                                          planner_effort=effort, auto_align_input=True)
         _plans[key] = plan
     return plan
 
@@ -101,6 +105,22 @@ def irfft2(spectrum, shape):
         key_shape = spectrum.shape[:-2] + shape + (0,)
         return _plan("inverse", key_shape)(spectrum).copy()
     return scipy.fft.irfftn(spectrum, s=shape, axes=(-2, -1), workers=THREADS)
+
+
+def rfft3(array):
+    """Forward real FFT over the last three axes of ``array``."""
+    if _backend == "pyfftw":
+        return _plan("forward", array.shape, dims=3)(array).copy()
+    return scipy.fft.rfftn(array, axes=(-3, -2, -1), workers=THREADS)
+
+
+def irfft3(spectrum, shape):
+    """Inverse of :func:`rfft3`; ``shape`` is the real shape of the last three axes."""
+    shape = tuple(shape)
+    if _backend == "pyfftw":
+        key_shape = spectrum.shape[:-3] + shape + (0,)
+        return _plan("inverse", key_shape, dims=3)(spectrum).copy()
+    return scipy.fft.irfftn(spectrum, s=shape, axes=(-3, -2, -1), workers=THREADS)
 
 
 class RealFFTPair:

@@ -2,7 +2,7 @@
 import numpy as np
 
 from .. import fft
-from ..errors import ParameterError
+from ..errors import ParameterError, ShapeError
 from .convolution import Convolution, wrapped_offsets
 from .kernels import periodic_subsurface_stress, subsurface_stress
 
@@ -131,3 +131,37 @@ class SubsurfaceStress:
             stresses = self._convolution.apply_spectrum(p_hat, self._kernel_spectrum(float(depth)) * _PHASE)
             out[:, :, j, :] = np.moveaxis(stresses, 0, -1)
         return out
+
+    def transpose(self, fields, depths):
+        """The adjoint of :meth:`apply`: ``out(x) = sum_depth sum_c int K_c(xi - x) f_c(xi)``.
+
+        With ``f`` an eigenstrain (tensor shears, counted twice) times the layer
+        thickness, this is the normal surface displacement it causes, by Betti's
+        reciprocal theorem (THEORY.md sec. 8): the work of a unit pressure on a
+        cell through the eigenstrain's displacement equals the work of the
+        pressure's stress through the eigenstrain.
+
+        Parameters
+        ----------
+        fields : ndarray
+            ``(n1, n2, n_depths, 6)`` in Voigt order xx yy zz yz xz xy.
+        depths : array_like
+            The depths [m] of the field's layers.
+
+        Returns
+        -------
+        ndarray
+            ``(n1, n2)``, in the fields' units times those of the kernel [1 per unit pressure].
+        """
+        if any(self.grid.periodic):
+            raise ParameterError(f"the transpose stress operator needs an open grid, got periodic={self.grid.periodic}")
+        depths = np.atleast_1d(np.asarray(depths, dtype=float))
+        n1, n2 = self.grid.shape
+        if fields.shape != (n1, n2, depths.size, 6):
+            raise ShapeError(f"fields have shape {fields.shape}, expected {(n1, n2, depths.size, 6)}")
+        total = 0.0
+        for j, depth in enumerate(depths):
+            spectra = self._convolution.transform(np.moveaxis(fields[:, :, j, :], -1, 0))
+            total = total + np.sum(self._kernel_spectrum(float(depth)) * np.conj(_PHASE) * spectra, axis=0)
+        return fft.irfft2(total, self._convolution.fft_shape)[:n1, :n2]
+

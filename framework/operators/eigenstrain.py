@@ -1,0 +1,367 @@
+"""Strain of the half-space caused by eigenstrains on a box of cuboids (Chiu 1977, 1978).
+
+A uniform eigenstrain ``e*`` in a cuboid of an infinite isotropic body causes the strain
+(Mura 1987, eq. 11.30; ``phi`` and ``psi`` the Newtonian and biharmonic potentials of the
+cuboid, ``phi = int 1/|x-x'| dV'``, ``psi = int |x-x'| dV'``)::
+
+    8 pi (1-nu) e_ik = psi_,ijkl e*_jl - 2 nu e*_mm phi_,ik - 2 (1-nu) (e*_il phi_,lk + e*_kl phi_,li)
+
+The derivatives of the potentials of a cuboid are corner sums of closed forms (Chiu 1977):
+with ``H`` the triple antiderivative of ``1/r`` (or ``r``), ``D phi(x) = sum_corners +- D H(x - c)``;
+on a lattice of cuboids the corner sum is a first difference along each axis of ``D H`` sampled at
+the cuboids' faces (:func:`potential_kernels`).
+
+In the half-space ``x3 >= 0`` (Chiu 1978; Liu & Wang 2005) the strain is the sum of
+
+1. the infinite-space strain of the eigenstrains (a 3-D convolution);
+2. the infinite-space strain of their mirror image ``e*(x1, x2, -x3)`` with ``e*_13``, ``e*_23``
+   negated (a convolution in x1, x2 and a correlation in x3): the two together leave no shear
+   traction on ``x3 = 0`` and twice the normal stress ``s33`` of the first;
+3. the Boussinesq field of the surface pressure ``p = 2 s33`` that removes that normal traction,
+   with Love's coefficients (:class:`~framework.operators.stress.SubsurfaceStress`).
+
+Strains are stored as ``(..., 6)`` arrays in Voigt order xx yy zz yz xz xy with *tensor* shears
+(``e_23``, not ``2 e_23``).
+"""
+import numpy as np
+
+from .. import fft
+from ..errors import ParameterError, ShapeError
+from .stress import SubsurfaceStress
+
+#: Index pairs of the six strain components, in Voigt order xx yy zz yz xz xy.
+COMPONENTS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+#: Weights of the six components in a contraction ``a : b`` (shears count twice).
+CONTRACTION = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0])
+
+
+def _sum_r(t, r, rest2):
+    """``r + t`` without cancellation when ``t < 0`` (``rest2 = r^2 - t^2``)."""
+    return np.where(t >= 0, r + t, rest2 / np.where(t >= 0, 1.0, r - t))
+
+
+def _phi_diagonal(ti, tj, tk, r):
+    return -np.arctan(tj * tk / (ti * r))
+
+
+def _phi_mixed(ti, tj, tk, r):
+    return np.log(_sum_r(tk, r, ti * ti + tj * tj))
+
+
+def _psi_four(ti, tj, tk, r):
+    ti2, tj2, tk2 = ti * ti, tj * tj, tk * tk
+    return (ti * tj / (r * _sum_r(tk, r, ti2 + tj2)) + ti * tk / (r * _sum_r(tj, r, ti2 + tk2))
+            - 2 * np.arctan(tj * tk / (ti * r))
+            + 2 * ti * tj * tk * (r * r + ti2) / (r * (ti2 + tj2) * (ti2 + tk2)))
+
+
+def _psi_three_one(ti, tj, tk, r):
+    rho2 = ti * ti + tj * tj
+    return np.log(_sum_r(tk, r, rho2)) - ti * ti * tk / (rho2 * r)
+
+
+def _psi_two_two(ti, tj, tk, r):
+    return -ti * tj * tk / ((ti * ti + tj * tj) * r)
+
+
+def _psi_two_one_one(ti, tj, tk, r):
+    return ti / r
+
+
+def _corner_functions(t):
+    """The 21 corner functions ``D H`` at offsets ``t = (t1, t2, t3)`` from a cuboid's corner.
+
+    Keys are sorted index tuples: ``(i, j)`` for ``phi_,ij`` and ``(i, j, k, l)`` for
+    ``psi_,ijkl``. The offsets must not vanish (the lattices here never put a face
+    through a target point).
+    """
+    r = np.sqrt(t[0] ** 2 + t[1] ** 2 + t[2] ** 2)
+    out = {}
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        ti, tj, tk = t[i], t[j], t[k]
+        out[(i, i)] = _phi_diagonal(ti, tj, tk, r)
+        out[tuple(sorted((i, j)))] = _phi_mixed(ti, tj, tk, r)
+        out[(i, i, i, i)] = _psi_four(ti, tj, tk, r)
+        out[tuple(sorted((i, i, i, j)))] = _psi_three_one(ti, tj, tk, r)
+        out[tuple(sorted((i, i, i, k)))] = _psi_three_one(ti, tk, tj, r)
+        out[tuple(sorted((i, i, j, j)))] = _psi_two_two(ti, tj, tk, r)
+        out[tuple(sorted((i, i, j, k)))] = _psi_two_one_one(ti, tj, tk, r)
+    return out
+
+
+def potential_kernels(faces1, faces2, faces3):
+    """Derivatives of the cuboid potentials on a lattice of cuboids, by corner sums.
+
+    Parameters
+    ----------
+    faces1, faces2, faces3 : ndarray
+        Increasing offsets [m] of the cuboid faces from the target point, ``x - c``,
+        along each axis: cuboid ``n`` lies between ``faces[n]`` and ``faces[n + 1]``.
+        No offset may be zero.
+
+    Returns
+    -------
+    dict
+        ``phi_,ij`` and ``psi_,ijkl`` [m^-1... m] per key, arrays of shape
+        ``(len(faces1) - 1, len(faces2) - 1, len(faces3) - 1)``; the value for cuboid
+        ``n`` is ``D int_cuboid f(x - x') dV'``.
+    """
+    t = np.meshgrid(faces1, faces2, faces3, indexing="ij", sparse=True)
+    values = _corner_functions([np.broadcast_to(c, (len(faces1), len(faces2), len(faces3))) for c in t])
+    # Per axis, int_a^b f(x - x') dx' = H(x - a) - H(x - b): a forward difference in t = x - c.
+    return {key: np.diff(np.diff(np.diff(v, axis=0), axis=1), axis=2) for key, v in values.items()}
+
+
+def strain_from_potentials(potentials, eigenstrain, poisson):
+    """Strain ``(..., 6)`` from the potentials' derivatives and an eigenstrain ``(..., 6)``.
+
+    Works pointwise on arrays that broadcast (real space) and on spectra (Fourier space,
+    where the products are the convolution's).
+    """
+    nu = poisson
+    e = {}
+    for c, (i, j) in enumerate(COMPONENTS):
+        e[(i, j)] = e[(j, i)] = eigenstrain[..., c]
+    trace = eigenstrain[..., 0] + eigenstrain[..., 1] + eigenstrain[..., 2]
+
+    def phi(i, j):
+        return potentials[tuple(sorted((i, j)))]
+
+    def psi(i, j, k, l):
+        return potentials[tuple(sorted((i, j, k, l)))]
+
+    out = []
+    for i, k in COMPONENTS:
+        total = -2 * nu * trace * phi(i, k)
+        for j in range(3):
+            for l in range(3):
+                total = total + psi(i, j, k, l) * e[(j, l)]
+        for l in range(3):
+            total = total - 2 * (1 - nu) * (e[(i, l)] * phi(l, k) + e[(k, l)] * phi(l, i))
+        out.append(total / (8 * np.pi * (1 - nu)))
+    return np.stack(out, axis=-1)
+
+
+def stress_from_strain(strain, poisson, young=1.0):
+    """Isotropic Hooke's law on ``(..., 6)`` tensor-shear strains."""
+    factor = young / (1 + poisson)
+    trace = strain[..., 0] + strain[..., 1] + strain[..., 2]
+    stress = factor * strain
+    stress[..., :3] += (factor * poisson / (1 - 2 * poisson) * trace)[..., None]
+    return stress
+
+
+def strain_from_stress(stress, poisson, young=1.0):
+    """Inverse of :func:`stress_from_strain`."""
+    trace = stress[..., 0] + stress[..., 1] + stress[..., 2]
+    strain = (1 + poisson) / young * stress
+    strain[..., :3] -= (poisson / young * trace)[..., None]
+    return strain
+
+
+def cuboid_potentials(offsets, half):
+    """Derivatives of the potentials of cuboids at arbitrary offsets (direct corner sums).
+
+    Parameters
+    ----------
+    offsets : ndarray
+        ``(..., 3)`` target minus cuboid centre [m]; no target on a face plane.
+    half : array_like
+        Half sizes of the cuboids ``(h1, h2, h3)`` [m].
+
+    Returns
+    -------
+    dict
+        As :func:`potential_kernels`, arrays of shape ``offsets.shape[:-1]``.
+    """
+    total = None
+    for s1 in (1, -1):
+        for s2 in (1, -1):
+            for s3 in (1, -1):
+                t = [offsets[..., a] + s * h for a, (s, h) in enumerate(zip((s1, s2, s3), half))]
+                values = _corner_functions(t)
+                sign = s1 * s2 * s3
+                total = ({k: sign * v for k, v in values.items()} if total is None
+                         else {k: total[k] + sign * v for k, v in values.items()})
+    return total
+
+
+def strain_at_points(points, centres, eigenstrain, half, poisson, chunk=200_000):
+    """Strain ``(n, 6)`` at ``points (n, 3)`` of an infinite body from cuboids by direct summation.
+
+    ``centres (N, 3)`` and ``eigenstrain (N, 6)`` give the cuboids and their eigenstrains.
+    Exact (to rounding) for points anywhere but on a face plane; it costs ``n N`` kernel
+    evaluations, for checks and a few points.
+    """
+    out = np.zeros((len(points), 6))
+    per_point = max(1, chunk // max(1, len(centres)))
+    for begin in range(0, len(points), per_point):
+        block = points[begin:begin + per_point]
+        offsets = block[:, None, :] - centres[None, :, :]
+        out[begin:begin + per_point] = strain_from_potentials(cuboid_potentials(offsets, half), eigenstrain[None],
+                                                              poisson).sum(axis=1)
+    return out
+
+
+def _wrapped(values):
+    """Kernel samples at offsets ``-(m-1) .. m-1`` per axis, in DC-FFT wrap-around order on ``2m``."""
+    padded = np.pad(values, [(1, 0)] * values.ndim)
+    return np.fft.ifftshift(padded)
+
+
+def _to_components_first(field):
+    return np.ascontiguousarray(np.moveaxis(field, -1, 0))
+
+
+class HalfSpaceEigenstrain:
+    """Strain in a box of cuboids of the half-space caused by eigenstrains in the same box.
+
+    The box is a block of the grid's cuboid lattice (surface cells times layers); the
+    kernels span the box only, so memory and time follow the box, not the grid: about
+    2 kB per cuboid of the box for the 21 + 21 kernel spectra of the infinite-space and
+    mirror terms, plus the surface-traction kernels (6 per layer of the box on the
+    grid's padded surface). The Boussinesq correction and the surface displacement use
+    the whole surface grid.
+
+    Parameters
+    ----------
+    grid : framework.Grid
+        Open grid with layers; the cuboids are ``dx1 x dx2 x dx3``.
+    poisson : float
+        Poisson ratio of the (homogeneous, isotropic) half-space.
+    start : tuple of int
+        Index of the box's first cuboid along x1, x2 and the layers.
+    shape : tuple of int
+        Cuboids of the box along each axis.
+    """
+
+    def __init__(self, grid, poisson, start, shape):
+        if any(grid.periodic):
+            raise ParameterError(f"the half-space eigenstrain operator needs an open grid, got periodic={grid.periodic}")
+        if not grid.layers:
+            raise ParameterError("grid.layers is 0: eigenstrains live on the subsurface cuboids; give the grid layers")
+        limits = (*grid.shape, grid.layers)
+        start, shape = tuple(int(s) for s in start), tuple(int(m) for m in shape)
+        for axis in range(3):
+            if start[axis] < 0 or shape[axis] < 1 or start[axis] + shape[axis] > limits[axis]:
+                raise ParameterError(f"box along axis {axis}: cuboids {start[axis]} .. {start[axis] + shape[axis] - 1} "
+                                     f"lie outside the grid's 0 .. {limits[axis] - 1}")
+        self.grid, self.poisson, self.start, self.shape = grid, float(poisson), start, shape
+        self.spacing = (*grid.spacing, grid.layer_thickness)
+        self.depths = grid.x3[start[2]:start[2] + shape[2]]
+        self.fft_shape = tuple(2 * m for m in shape)
+        faces = [(np.arange(-m, m) + 0.5) * h for m, h in zip(shape, self.spacing)]
+        # Each kernel is even or odd in each offset with an even number of odd axes: real spectra.
+        self._direct = {key: fft.rfft3(_wrapped(value)).real for key, value in potential_kernels(*faces).items()}
+        dz = self.spacing[2]
+        mirror_faces = (2 * start[2] + np.arange(2 * shape[2]) + 0.5) * dz
+        self._mirror = {key: fft.rfft3(_wrapped(value)) for key, value in
+                        potential_kernels(faces[0], faces[1], mirror_faces).items()}
+        self._traction = self._traction_spectra()
+        self._stress = SubsurfaceStress(grid, poisson)
+        self._footprint = (slice(start[0], start[0] + shape[0]), slice(start[1], start[1] + shape[1]))
+
+    def _traction_spectra(self):
+        """Spectra ``(m3, 6, 2 n1, n2 + 1)`` of ``s33`` at the surface (unit modulus) per layer and component."""
+        (n1, n2), m3, dz = self.grid.shape, self.shape[2], self.spacing[2]
+        faces1 = (np.arange(-n1, n1) + 0.5) * self.spacing[0]
+        faces2 = (np.arange(-n2, n2) + 0.5) * self.spacing[1]
+        # Target on the surface, sources below: x3 - x3' runs from -(bottom) up to -(top of the box).
+        top = self.start[2]
+        faces3 = -(top + m3 - np.arange(m3 + 1)) * dz
+        if top == 0:
+            faces3[-1] = -1e-12 * dz  # the surface itself: s33 is continuous there (traction)
+        potentials = potential_kernels(faces1, faces2, faces3)
+        nu = self.poisson
+        spectra = np.empty((m3, 6, 2 * n1, n2 + 1), dtype=complex)
+        for c in range(6):
+            strain = strain_from_potentials(potentials, np.eye(6)[c], nu)
+            s33 = stress_from_strain(strain, nu)[..., 2]           # (2n1-1, 2n2-1, m3), layers bottom-up
+            s33 = np.pad(s33, [(1, 0), (1, 0), (0, 0)])
+            s33 = np.fft.ifftshift(s33, axes=(0, 1))[:, :, ::-1]   # layers top-down, wrap-around order
+            spectra[:, c] = fft.rfft2(np.ascontiguousarray(np.moveaxis(s33, -1, 0)))
+        return spectra
+
+    def _check(self, eigenstrain):
+        expected = (*self.shape, 6)
+        if np.shape(eigenstrain) != expected:
+            raise ShapeError(f"eigenstrain has shape {np.shape(eigenstrain)}, the operator's box is {expected}")
+        return np.asarray(eigenstrain, dtype=float)
+
+    def _embedded_layers(self, eigenstrain):
+        """The box's eigenstrain per layer on the whole surface grid, ``(m3, 6, n1, n2)``."""
+        field = np.zeros((self.shape[2], 6, *self.grid.shape))
+        field[:, :, self._footprint[0], self._footprint[1]] = np.transpose(eigenstrain, (2, 3, 0, 1))
+        return field
+
+    def surface_traction(self, eigenstrain):
+        """Pressure ``2 s33(x1, x2, 0)`` [Pa per unit Young's modulus] over the surface grid.
+
+        The normal stress that the eigenstrains and their mirror image leave on the
+        surface, as the compressive pressure that the Boussinesq correction applies.
+        """
+        eigenstrain = self._check(eigenstrain)
+        n1, n2 = self.grid.shape
+        convolution = self._stress._convolution
+        total = 0.0
+        for layer, field in enumerate(self._embedded_layers(eigenstrain)):
+            total = total + np.sum(self._traction[layer] * convolution.transform(field), axis=0)
+        return 2.0 * fft.irfft2(total, convolution.fft_shape)[:n1, :n2]
+
+    def surface_displacement(self, eigenstrain):
+        """Normal surface displacement ``u3`` [m per unit strain... i.e. m] over the grid, positive into the solid.
+
+        Betti's reciprocal theorem with Love's pressure-to-stress coefficients
+        (:meth:`SubsurfaceStress.transpose`); it does not depend on the modulus.
+        """
+        eigenstrain = self._check(eigenstrain)
+        n1, n2 = self.grid.shape
+        fields = np.zeros((n1, n2, self.shape[2], 6))
+        fields[self._footprint] = eigenstrain * CONTRACTION
+        return self.spacing[2] * self._stress.transpose(fields, self.depths)
+
+    def strain(self, eigenstrain):
+        """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
+        eigenstrain = self._check(eigenstrain)
+        m1, m2, m3 = self.shape
+        padded = np.zeros((6, *self.fft_shape))
+        padded[:, :m1, :m2, :m3] = _to_components_first(eigenstrain)
+        direct = np.moveaxis(fft.rfft3(padded), 0, -1)
+        mirrored = eigenstrain[:, :, ::-1, :] * np.array([1, 1, 1, -1, -1, 1])
+        padded[:, :m1, :m2, :m3] = _to_components_first(mirrored)
+        mirror = np.moveaxis(fft.rfft3(padded), 0, -1)
+        spectrum = (strain_from_potentials(self._direct, direct, self.poisson)
+                    + strain_from_potentials(self._mirror, mirror, self.poisson))
+        infinite = fft.irfft3(_to_components_first(spectrum), self.fft_shape)[:, :m1, :m2, :m3]
+        pressure = self.surface_traction(eigenstrain)
+        correction = self._stress.apply(pressure, self.depths)[self._footprint]
+        return np.moveaxis(infinite, 0, -1) + strain_from_stress(correction, self.poisson)
+
+    def strain_at(self, points, eigenstrain):
+        """Total strain ``(n, 6)`` at arbitrary points ``(n, 3)`` [m] of the half-space, by direct sums.
+
+        The same three terms as :meth:`strain`, each summed over the box's loaded
+        cuboids (and, for the Boussinesq term, the surface cells) without FFTs, so the
+        points may lie anywhere below the surface but not on a cuboid face.
+        """
+        from .kernels import subsurface_stress
+        eigenstrain = self._check(eigenstrain)
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        loaded = np.nonzero(np.any(eigenstrain != 0.0, axis=-1))
+        values = eigenstrain[loaded]
+        axes = (self.grid.x1[self._footprint[0]], self.grid.x2[self._footprint[1]], self.depths)
+        centres = np.stack([axis[index] for axis, index in zip(axes, loaded)], axis=-1)
+        half = 0.5 * np.asarray(self.spacing)
+        mirrored = centres * [1, 1, -1]
+        strain = (strain_at_points(points, centres, values, half, self.poisson)
+                  + strain_at_points(points, mirrored, values * [1, 1, 1, -1, -1, 1], half, self.poisson))
+        pressure = self.surface_traction(eigenstrain)
+        x1, x2 = self.grid.coordinates()
+        dx1, dx2 = self.grid.spacing
+        stress = np.empty((len(points), 6))
+        for i, (y1, y2, y3) in enumerate(points):
+            stress[i] = pressure.ravel() @ subsurface_stress((y1 - x1).ravel(), (y2 - x2).ravel(), y3,
+                                                             half1=dx1 / 2, half2=dx2 / 2, poisson=self.poisson)
+        return strain + strain_from_stress(stress, self.poisson)
+
