@@ -1,0 +1,191 @@
+"""Eshelby's equivalent inclusion method on the cuboid lattice (THEORY.md sec. 8).
+
+Each inhomogeneity (stiffness ``C_I``) is replaced by matrix material (``C_M``) with an
+eigenstrain ``e*`` such that the stress is the same in every cuboid of the inhomogeneity
+(Eshelby 1957; Mura 1987 sec. 22; Jacq et al. 2002; Koumi et al. 2014)::
+
+    C_I : (e0 + D[e*]) = C_M : (e0 + D[e*] - e*)
+
+``e0`` the strain without the inhomogeneities, ``D`` the half-space eigenstrain operator
+(:class:`~framework.operators.eigenstrain.HalfSpaceEigenstrain`). Written as
+``(C_I - C_M) D[e*] + C_M e* = (C_M - C_I) e0`` it is solved by GMRES (the operator is not
+symmetric), left-preconditioned per inhomogeneity by ``[(C_I - C_M) S + C_M]^-1`` with
+``S`` the strain a cuboid's own eigenstrain causes at its centre: for an isolated cuboid
+this is the exact local solve, and it makes the iteration count nearly independent of the
+resolution and of the stiffness contrast.
+
+Strains are ``(..., 6)`` arrays in Voigt order xx yy zz yz xz xy with tensor shears;
+internally the unknowns are in Mandel's basis (shears times sqrt 2), where the 6x6
+matrices of the stiffness tensors are symmetric.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse.linalg import LinearOperator, gmres
+
+from ..errors import ConvergenceError, ShapeError
+from ..operators.eigenstrain import COMPONENTS, cuboid_potentials, strain_from_potentials
+
+MANDEL = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
+
+
+def mandel_matrix(tensor):
+    """6x6 Mandel matrix of a stiffness tensor ``(3, 3, 3, 3)``."""
+    out = np.empty((6, 6))
+    for a, (i, j) in enumerate(COMPONENTS):
+        for b, (k, l) in enumerate(COMPONENTS):
+            out[a, b] = tensor[i, j, k, l] * MANDEL[a] * MANDEL[b]
+    return out
+
+
+def isotropic_mandel(young, poisson):
+    """6x6 Mandel matrix of an isotropic stiffness."""
+    lam = young * poisson / ((1 + poisson) * (1 - 2 * poisson))
+    mu = young / (2 * (1 + poisson))
+    out = 2 * mu * np.eye(6)
+    out[:3, :3] += lam
+    return out
+
+
+def cuboid_self_strain(spacing, poisson):
+    """Mandel matrix of the strain at a cuboid's centre per unit eigenstrain of the cuboid (infinite body)."""
+    potentials = cuboid_potentials(np.zeros(3), 0.5 * np.asarray(spacing, dtype=float))
+    columns = [strain_from_potentials(potentials, np.eye(6)[c] / MANDEL[c], poisson) * MANDEL for c in range(6)]
+    return np.array(columns).T
+
+
+@dataclass
+class EquivalentInclusionSolution:
+    """Solution of one equivalent-inclusion solve on an operator's box.
+
+    Attributes
+    ----------
+    eigenstrain : ndarray
+        ``(m1, m2, m3, 6)`` equivalent eigenstrain (zero in the matrix).
+    strain : ndarray
+        ``(m1, m2, m3, 6)`` total strain ``e0 + D[e*]``.
+    stress : ndarray
+        ``(m1, m2, m3, 6)`` total stress [Pa]: ``C_I : strain`` in the inhomogeneities,
+        ``C_M : strain`` in the matrix.
+    iterations : int
+        GMRES iterations.
+    residual : float
+        Final ``|A e* - b| / |b|`` of the unpreconditioned system.
+    success : bool
+        Whether the residual met the tolerance.
+    """
+
+    eigenstrain: np.ndarray
+    strain: np.ndarray
+    stress: np.ndarray
+    iterations: int
+    residual: float
+    success: bool
+
+
+class EquivalentInclusionProblem:
+    """The linear system of the equivalent inclusion method on one box.
+
+    Parameters
+    ----------
+    operator : framework.operators.eigenstrain.HalfSpaceEigenstrain
+        The matrix's eigenstrain operator on the box.
+    indicator : ndarray of int
+        ``(m1, m2, m3)``: 0 in the matrix, ``k + 1`` in the cuboids of the ``k``-th inhomogeneity.
+    stiffnesses : sequence of ndarray
+        Stiffness tensors ``(3, 3, 3, 3)`` [Pa] of the inhomogeneities, in the global frame.
+    young : float
+        Young's modulus of the matrix [Pa] (its Poisson ratio is the operator's).
+    """
+
+    def __init__(self, operator, indicator, stiffnesses, young):
+        indicator = np.asarray(indicator)
+        if indicator.shape != operator.shape:
+            raise ShapeError(f"indicator has shape {indicator.shape}, the operator's box is {operator.shape}")
+        self.operator = operator
+        self.indicator = indicator
+        self.cells = np.nonzero(indicator)
+        self.material = indicator[self.cells] - 1
+        self.matrix = isotropic_mandel(young, operator.poisson)
+        self.stiffness = [mandel_matrix(c) for c in stiffnesses]
+        self.contrast = [c - self.matrix for c in self.stiffness]
+        local = cuboid_self_strain(operator.spacing, operator.poisson)
+        self._preconditioner = [np.linalg.inv(d @ local + self.matrix) for d in self.contrast]
+
+    @property
+    def size(self):
+        """Number of unknowns (6 per cuboid of the inhomogeneities)."""
+        return 6 * self.material.size
+
+    def _per_material(self, matrices, values):
+        out = np.empty_like(values)
+        for k, matrix in enumerate(matrices):
+            rows = self.material == k
+            out[rows] = values[rows] @ matrix.T
+        return out
+
+    def box_field(self, values):
+        """Tensor-shear box field ``(m1, m2, m3, 6)`` of Mandel values ``(N, 6)`` on the inhomogeneities' cuboids."""
+        field = np.zeros((*self.operator.shape, 6))
+        field[self.cells] = values / MANDEL
+        return field
+
+    def _apply(self, values):
+        disturbance = self.operator.strain(self.box_field(values))[self.cells] * MANDEL
+        return self._per_material(self.contrast, disturbance) + values @ self.matrix.T
+
+    def solve(self, applied_strain, initial=None, tolerance=1e-10, max_iterations=500, raise_on_failure=True):
+        """Equivalent eigenstrain for the strain ``applied_strain`` the matrix would have without inhomogeneities.
+
+        Parameters
+        ----------
+        applied_strain : ndarray
+            ``(m1, m2, m3, 6)`` tensor-shear strain on the box, or ``(6,)`` uniform.
+        initial : ndarray, optional
+            ``(m1, m2, m3, 6)`` eigenstrain to start from (warm start across steps).
+        tolerance : float
+            Relative residual of the preconditioned system.
+        max_iterations : int
+            GMRES iterations (restarted every 100) before the solve is declared failed.
+        raise_on_failure : bool
+            Raise :class:`~framework.errors.ConvergenceError` when the tolerance is not met.
+        """
+        shape = (*self.operator.shape, 6)
+        applied = np.broadcast_to(np.asarray(applied_strain, dtype=float), shape)
+        strain0 = applied[self.cells] * MANDEL
+        right = -self._per_material(self.contrast, strain0)
+        n = self.size
+        scale = np.linalg.norm(right)
+        if n == 0 or scale == 0.0:
+            zero = np.zeros(shape)
+            return self._solution(zero, applied, 0, 0.0, True)
+        start = None if initial is None else (np.asarray(initial, dtype=float)[self.cells] * MANDEL).ravel()
+
+        def preconditioned(x):
+            return self._per_material(self._preconditioner, self._apply(x.reshape(-1, 6))).ravel()
+
+        operator = LinearOperator((n, n), matvec=preconditioned, dtype=float)
+        right_p = self._per_material(self._preconditioner, right).ravel()
+        count = [0]
+
+        def callback(_):
+            count[0] += 1
+
+        values, _ = gmres(operator, right_p, x0=start, rtol=tolerance, atol=0.0, restart=min(100, n),
+                          maxiter=max(1, -(-max_iterations // min(100, n))), callback=callback,
+                          callback_type="pr_norm")
+        values = values.reshape(-1, 6)
+        residual = float(np.linalg.norm(self._apply(values) - right) / scale)
+        precond_residual = float(np.linalg.norm(preconditioned(values.ravel()) - right_p) / np.linalg.norm(right_p))
+        success = precond_residual <= 10 * tolerance
+        if not success and raise_on_failure:
+            raise ConvergenceError(f"the equivalent-inclusion solve stopped after {count[0]} GMRES iterations at "
+                                   f"relative residual {precond_residual:.3g}, tolerance {tolerance:g}")
+        return self._solution(self.box_field(values), applied, count[0], residual, success)
+
+    def _solution(self, eigenstrain, applied, iterations, residual, success):
+        strain = applied + (self.operator.strain(eigenstrain) if self.size else 0.0)
+        stress = (strain * MANDEL) @ self.matrix.T
+        stress[self.cells] = self._per_material(self.stiffness, strain[self.cells] * MANDEL)
+        return EquivalentInclusionSolution(eigenstrain=eigenstrain, strain=np.array(strain), stress=stress / MANDEL,
+                                           iterations=iterations, residual=residual, success=success)

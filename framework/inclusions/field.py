@@ -1,0 +1,202 @@
+"""Inhomogeneities in an elastic half-space under a uniform applied strain (``fw.solve_inclusions``)."""
+import numpy as np
+
+from .._validation import check_finite_array
+from ..errors import ParameterError, ShapeError
+from ..materials import Elastic
+from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
+from .equivalent import MANDEL, EquivalentInclusionProblem
+
+#: Inhomogeneities must be at least this stiff relative to the matrix (smallest eigenvalue of
+#: ``C_M^-1/2 C_I C_M^-1/2``). The collocated cuboid operator has a checkerboard mode of
+#: eigenvalue about 1.2 (a continuous operator's lie in [0, 1]); below ratio 1 - 1/1.2 the
+#: equivalent-inclusion system becomes singular, and near it GMRES stalls.
+MIN_STIFFNESS_RATIO = 0.25
+
+
+def inclusion_box(grid, inclusions, margin=0.0):
+    """Block of the grid's cuboids that holds every inhomogeneity, grown by ``margin`` [m] per side.
+
+    Returns
+    -------
+    start, shape : tuple of int
+        First cuboid and number of cuboids along x1, x2 and the layers (clipped to the grid).
+    """
+    lower, upper = inclusions.bounds()
+    spacing = np.array([*grid.spacing, grid.layer_thickness])
+    origin = np.array([-grid.size[0] / 2, -grid.size[1] / 2, 0.0])
+    limits = np.array([*grid.shape, grid.layers])
+    first = np.floor((lower - margin - origin) / spacing).astype(int)
+    last = np.ceil((upper + margin - origin) / spacing).astype(int)
+    first, last = np.clip(first, 0, limits), np.clip(last, 0, limits)
+    return tuple(int(v) for v in first), tuple(int(v) for v in last - first)
+
+
+def box_coordinates(grid, start, shape):
+    """Cuboid-centre coordinates ``(x1, x2, x3)`` of a box, three 1-D arrays [m]."""
+    return (grid.x1[start[0]:start[0] + shape[0]], grid.x2[start[1]:start[1] + shape[1]],
+            grid.x3[start[2]:start[2] + shape[2]])
+
+
+def stiffness_ratio(inclusion_stiffness, matrix_stiffness):
+    """Smallest eigenvalue of ``C_M^-1/2 C_I C_M^-1/2`` (Mandel matrices)."""
+    values, vectors = np.linalg.eigh(matrix_stiffness)
+    root = vectors @ np.diag(values ** -0.5) @ vectors.T
+    return float(np.linalg.eigvalsh(root @ inclusion_stiffness @ root).min())
+
+
+def strain_vector(strain, *, name):
+    """A symmetric 3x3 strain as the ``(6,)`` tensor-shear vector (Voigt order xx yy zz yz xz xy)."""
+    strain = check_finite_array(strain, name=name)
+    if strain.shape != (3, 3):
+        raise ShapeError(f"{name} must be a 3x3 strain tensor, got shape {strain.shape}")
+    if np.abs(strain - strain.T).max() > 1e-12 * max(np.abs(strain).max(), 1e-300):
+        raise ParameterError(f"{name} must be symmetric (a strain tensor), got {strain.tolist()}")
+    return np.array([strain[i, j] for i, j in COMPONENTS])
+
+
+class InclusionProblem:
+    """The equivalent-inclusion problem of a set of inhomogeneities in an elastic half-space.
+
+    Builds the eigenstrain operator on the block of cuboids around the inhomogeneities
+    (grown by ``margin``) and the preconditioned linear system; :meth:`solve` returns the
+    eigenstrains for a given strain of the matrix without inhomogeneities.
+
+    Parameters
+    ----------
+    grid : framework.Grid
+        Open grid with layers: the inhomogeneities must lie inside its subsurface box.
+    matrix : framework.materials.Elastic
+        The half-space.
+    inclusions : framework.inclusions.InclusionSet
+        The inhomogeneities.
+    margin : float
+        Distance [m] the box extends beyond the inhomogeneities, where the total
+        stress (with the eigenstrains' fields) is computed for the outputs.
+    """
+
+    def __init__(self, grid, matrix, inclusions, margin=0.0):
+        if not isinstance(matrix, Elastic):
+            raise ParameterError(f"matrix must be a framework.materials.Elastic, got {type(matrix).__name__}")
+        inclusions.check_inside(grid)
+        if len(inclusions) == 0:
+            raise ParameterError("inclusions is empty: give at least one inhomogeneity")
+        self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
+        self.start, self.shape = inclusion_box(grid, inclusions, margin)
+        self.coordinates = box_coordinates(grid, self.start, self.shape)
+        self.indicator = inclusions.indicator(*self.coordinates)
+        stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
+        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, self.start, self.shape)
+        self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, matrix.young)
+        for k, stiffness in enumerate(self.problem.stiffness):
+            ratio = stiffness_ratio(stiffness, self.problem.matrix)
+            if ratio < MIN_STIFFNESS_RATIO:
+                raise ParameterError(f"inclusions[{k}].material is too soft for the equivalent-inclusion method: its "
+                                     f"stiffness is {ratio:.3g} times the matrix's along its softest mode, expected "
+                                     f">= {MIN_STIFFNESS_RATIO} (the cuboid collocation becomes singular below ~0.17)")
+        for k in range(len(inclusions)):
+            if not np.any(self.indicator == k + 1):
+                raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
+
+    @property
+    def box(self):
+        """Slices of the box in the grid's ``(n1, n2, layers)`` arrays."""
+        return tuple(slice(s, s + m) for s, m in zip(self.start, self.shape))
+
+    def on_grid(self, field):
+        """A box field ``(m1, m2, m3, ...)`` placed in a zero grid field ``(n1, n2, layers, ...)``."""
+        out = np.zeros((*self.grid.shape, self.grid.layers, *field.shape[3:]), dtype=field.dtype)
+        out[self.box] = field
+        return out
+
+    def stress_at(self, points, applied_strain, eigenstrain):
+        """Total stress ``(n, 6)`` [Pa] at points ``(n, 3)`` [m]: applied strain plus the eigenstrains' field.
+
+        Inside an inhomogeneity (its exact ellipsoid) the stress is ``C_I : strain``; elsewhere
+        ``C_M : (strain - e*)`` with ``e*`` the eigenstrain of the cuboid holding the point.
+        ``applied_strain`` is a function of the points returning ``(n, 6)`` strains.
+        """
+        points = check_finite_array(points, name="points", ndim=2)
+        if points.shape[1] != 3:
+            raise ShapeError(f"points must have shape (n, 3), got {points.shape}")
+        grid = self.grid
+        if (np.any(np.abs(points[:, 0]) > grid.size[0] / 2) or np.any(np.abs(points[:, 1]) > grid.size[1] / 2)
+                or np.any(points[:, 2] <= 0) or np.any(points[:, 2] > grid.depth)):
+            raise ParameterError(f"points must lie inside the subsurface box |x1| <= {grid.size[0] / 2:g}, "
+                                 f"|x2| <= {grid.size[1] / 2:g}, 0 < x3 <= {grid.depth:g} m")
+        strain = applied_strain(points) + self.operator.strain_at(points, eigenstrain)
+        spacing = np.array(self.operator.spacing)
+        origin = np.array([-grid.size[0] / 2, -grid.size[1] / 2, 0.0]) + np.array(self.start) * spacing
+        index = np.floor((points - origin) / spacing).astype(int)
+        inside_box = np.all((index >= 0) & (index < self.shape), axis=1)
+        cell = np.zeros((len(points), 6))
+        cell[inside_box] = eigenstrain[tuple(index[inside_box].T)]
+        stress = ((strain - cell) * MANDEL) @ self.problem.matrix.T
+        for k, inclusion in enumerate(self.inclusions):
+            inside = inclusion.contains(points)
+            stress[inside] = (strain[inside] * MANDEL) @ self.problem.stiffness[k].T
+        return stress / MANDEL
+
+
+class InclusionSolution:
+    """Result of :func:`solve_inclusions`.
+
+    Attributes
+    ----------
+    eigenstrain : ndarray
+        ``(n1, n2, layers, 6)`` equivalent eigenstrain (tensor shears, Voigt order xx yy zz yz xz xy).
+    inhomogeneity : ndarray
+        ``(n1, n2, layers)`` indicator: 0 in the matrix, ``k + 1`` in the ``k``-th inhomogeneity.
+    stress : ndarray
+        ``(m1, m2, m3, 6)`` total stress [Pa] on the box ``box`` around the inhomogeneities.
+    box : tuple of slice
+        Where the box lies in the grid's arrays.
+    iterations, residual, success
+        GMRES iterations, final relative residual, convergence.
+    """
+
+    def __init__(self, problem, applied, solution):
+        self._problem, self._applied, self._box_eigenstrain = problem, applied, solution.eigenstrain
+        self.box = problem.box
+        self.eigenstrain = problem.on_grid(solution.eigenstrain)
+        self.inhomogeneity = problem.on_grid(problem.indicator)
+        self.stress = solution.stress
+        self.iterations, self.residual, self.success = solution.iterations, solution.residual, solution.success
+
+    def stress_at(self, points):
+        """Total stress ``(n, 6)`` [Pa] at arbitrary points ``(n, 3)`` [m] of the subsurface box (direct sums)."""
+        applied = self._applied
+        return self._problem.stress_at(points, lambda p: np.broadcast_to(applied, (len(p), 6)),
+                                       self._box_eigenstrain)
+
+
+def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, margin=0.0):
+    """Inhomogeneities in an elastic half-space under a uniform applied strain, by the equivalent inclusion method.
+
+    Parameters
+    ----------
+    grid : framework.Grid
+        Open grid with layers; the operators live on the block of its cuboids around the
+        inhomogeneities (grown by ``margin``), so memory and time follow the inhomogeneities.
+    matrix : framework.materials.Elastic
+        The half-space.
+    inclusions : framework.inclusions.InclusionSet
+        The inhomogeneities (or a list of :class:`~framework.inclusions.Ellipsoid`).
+    applied_strain : array_like
+        3x3 strain the matrix would have without the inhomogeneities (uniform).
+    tolerance : float
+        Relative residual of the GMRES solve.
+    margin : float
+        Extra distance [m] around the inhomogeneities where ``stress`` is tabulated.
+
+    Returns
+    -------
+    InclusionSolution
+    """
+    from .bodies import InclusionSet
+    if not isinstance(inclusions, InclusionSet):
+        inclusions = InclusionSet(inclusions)
+    applied = strain_vector(applied_strain, name="applied_strain")
+    problem = InclusionProblem(grid, matrix, inclusions, margin=margin)
+    solution = problem.problem.solve(applied, tolerance=tolerance)
+    return InclusionSolution(problem, applied, solution)
