@@ -25,6 +25,9 @@ class StepRecord:
     residual: float
     success: bool
     tilt: tuple = (0.0, 0.0)
+    eigenstrain: np.ndarray = None        # (m1, m2, m3, 6) on the inhomogeneities' box, tensor shears
+    inclusion_stress: np.ndarray = None   # (m1, m2, m3, 6) total stress [Pa] on that box
+    couplings: int = 0                    # fixed-point iterations between contact and inhomogeneities
 
 
 #: SI unit of each series of :meth:`Result.summary` (``summary.csv`` writes them in its header).
@@ -51,9 +54,11 @@ class Result:
     so they are computed when asked for.
     """
 
-    def __init__(self, grid, material, indenter, schedule, options):
+    def __init__(self, grid, material, indenter, schedule, options, inclusions=None, inclusion_problem=None):
         self.grid, self.material, self.indenter = grid, material, indenter
         self.schedule, self.options = schedule, options
+        self.inclusions = inclusions
+        self._inclusion_problem = inclusion_problem
         self.version = __version__
         self.records = []
         self._stress_operator = None
@@ -235,8 +240,40 @@ class Result:
         key, value = self._stress_cache
         if key != record.index:
             value = self._operator().apply(record.pressure)
+            if record.inclusion_stress is not None:
+                value[self._inclusion_box()] = record.inclusion_stress
             self._stress_cache = (record.index, value)
         return value
+
+    def _inclusions_problem(self):
+        if self._inclusion_problem is None:
+            if not self.inclusions:
+                raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
+            from .inclusions.field import InclusionProblem
+            margin = self.options.inclusion_margin
+            if margin is None:
+                margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in self.inclusions)
+            self._inclusion_problem = InclusionProblem(self.grid, self.material, self.inclusions, margin=margin)
+        return self._inclusion_problem
+
+    def _inclusion_box(self):
+        return self._inclusions_problem().box
+
+    def eigenstrain(self, step):
+        """Equivalent eigenstrain of the inhomogeneities, shape (n1, n2, layers, 6), tensor shears, Voigt order.
+
+        Zero outside the inhomogeneities (THEORY.md sec. 8).
+        """
+        record = self._record(step)
+        if record.eigenstrain is None:
+            raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
+        return self._inclusions_problem().on_grid(record.eigenstrain)
+
+    def inhomogeneity(self, step):
+        """Indicator of the inhomogeneities on the cuboids, shape (n1, n2, layers): 0 matrix, k + 1 the k-th."""
+        self._record(step)
+        problem = self._inclusions_problem()
+        return problem.on_grid(problem.indicator)
 
     def von_mises(self, step):
         """Von Mises equivalent stress [Pa], shape (n1, n2, layers)."""
@@ -276,6 +313,11 @@ class Result:
             coefficients = subsurface_stress(y1 - x1, y2 - x2, y3, half1=dx1 / 2, half2=dx2 / 2,
                                              poisson=self.material.poisson)
             out[i] = p @ coefficients
+        record = self._record(step)
+        if record.eigenstrain is not None:
+            from .operators.eigenstrain import strain_from_stress
+            strain = strain_from_stress(out, self.material.poisson, self.material.young)
+            out = self._inclusions_problem().stress_at(points, lambda _: strain, record.eigenstrain)
         return out
 
     def configuration(self):

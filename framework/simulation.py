@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import loads, schedules
-from ._validation import check_bool, check_positive_int
+from ._validation import check_bool, check_positive_int, check_quantity, check_real
 from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
 from .history import HereditarySum, PronyRecursion, SteadyMemory
@@ -47,11 +47,20 @@ class Options:
     history : str
         ``"recursive"`` (Prony recursions, O(1) per step) or ``"hereditary"``
         (the full hereditary sum, O(n) per step: a reference for tests).
+    inclusion_margin : float or None
+        Distance [m] around the inhomogeneities where the stress includes their
+        eigenstrains' fields (the eigenstrain operators' box); None: half the
+        largest semi-axis.
+    coupling_tolerance : float
+        Relative change of the inhomogeneities' surface displacement at which a
+        step's contact and eigenstrains count as converged together.
     """
 
     solver: SolverOptions = field(default_factory=SolverOptions)
     check_edges: bool = True
     history: str = "recursive"
+    inclusion_margin: float = None
+    coupling_tolerance: float = 1e-8
 
     def __post_init__(self):
         if not isinstance(self.solver, SolverOptions):
@@ -59,6 +68,13 @@ class Options:
         object.__setattr__(self, "check_edges", check_bool(self.check_edges, name="check_edges"))
         if self.history not in ("recursive", "hereditary"):
             raise ParameterError(f"history must be 'recursive' or 'hereditary', got {self.history!r}")
+        if self.inclusion_margin is not None:
+            object.__setattr__(self, "inclusion_margin",
+                               check_quantity(self.inclusion_margin, name="inclusion_margin", unit="m", zero=True))
+        tolerance = check_real(self.coupling_tolerance, name="coupling_tolerance")
+        if not 1e-14 <= tolerance < 1:
+            raise ParameterError(f"coupling_tolerance must lie in [1e-14, 1) (a relative change), got {tolerance!r}")
+        object.__setattr__(self, "coupling_tolerance", tolerance)
 
     @classmethod
     def from_value(cls, value):
@@ -70,7 +86,7 @@ class Options:
         if not isinstance(value, dict):
             raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
         solver_keys = set(SolverOptions.__dataclass_fields__)
-        run_keys = {"check_edges", "history"}
+        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance"}
         unknown = set(value) - solver_keys - run_keys
         if unknown:
             raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "
@@ -201,8 +217,10 @@ class Simulation:
         The rigid body.
     schedule : schedules.Static, schedules.Eccentric or schedules.Rolling
         What happens in time.
-    inclusions : None
-        Inhomogeneities (not available yet: must be None).
+    inclusions : inclusions.InclusionSet or list of inclusions.Ellipsoid, optional
+        Elastic inhomogeneities in the half-space (an elastic matrix, ``Static``
+        or ``Eccentric`` schedules): each step converges the contact and the
+        equivalent eigenstrains together (:class:`framework.inclusions.coupling.ContactCoupling`).
     options : dict or Options, optional
         Solver tolerances and run choices (see :class:`Options`).
 
@@ -226,12 +244,36 @@ class Simulation:
         if not isinstance(schedule, (schedules.Static, schedules.Rolling)):
             raise ParameterError(f"schedule must be a framework schedule (Static, Eccentric, Rolling), got "
                                  f"{type(schedule).__name__}")
-        if inclusions is not None:
-            raise ParameterError(f"inclusions are not supported by this version, got {inclusions!r}; pass None")
         self.grid, self.material, self.indenter, self.schedule = grid, material, indenter, schedule
         self.options = Options.from_value(options)
         self.result = None
+        self.inclusions = self._check_inclusions(inclusions)
         self._check()
+
+    def _check_inclusions(self, inclusions):
+        """The inhomogeneities as an InclusionSet with their operators built (None without any)."""
+        if inclusions is None:
+            self._inclusion_problem = None
+            return None
+        from .inclusions import InclusionSet
+        from .inclusions.field import InclusionProblem
+        from .materials import Elastic
+        if not isinstance(inclusions, InclusionSet):
+            inclusions = InclusionSet(inclusions)
+        if len(inclusions) == 0:
+            self._inclusion_problem = None
+            return inclusions
+        if not isinstance(self.material, Elastic):
+            raise ParameterError(f"inclusions need an elastic matrix (materials.Elastic) in this version, got "
+                                 f"{type(self.material).__name__}: a viscoelastic matrix with inhomogeneities is "
+                                 f"not available yet")
+        if isinstance(self.schedule, schedules.Rolling):
+            raise ParameterError("inclusions work with Static and Eccentric schedules in this version, got Rolling")
+        margin = self.options.inclusion_margin
+        if margin is None:
+            margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in inclusions)
+        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, margin=margin)
+        return inclusions
 
     def _check(self):
         """Everything a run needs that the parts cannot check alone: found here, before any step."""
@@ -324,6 +366,14 @@ class Simulation:
             integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")})
             start, index = int(state["station"]), int(state["index"])
         load_control = schedule.control == "load"
+        coupling = None
+        if self._inclusion_problem is not None:
+            from .inclusions.coupling import ContactCoupling
+            coupling = ContactCoupling(self._inclusion_problem, tolerance=options.coupling_tolerance)
+            if state is not None and "eigenstrain" in state:
+                coupling.eigenstrain = state["eigenstrain"]
+                coupling.displacement = self._inclusion_problem.operator.surface_displacement(state["eigenstrain"])
+        self._coupling = coupling
         offset = getattr(schedule, "offset", None)
         coordinates = grid.coordinates() if offset is not None else None
         for number, station in enumerate(self._timeline):
@@ -338,10 +388,18 @@ class Simulation:
             if steady:
                 solution = solve_steady(operator.apply, heights, load=station.value, symmetric=symmetric, **arguments)
             else:
-                solution = solve_normal(
-                    lambda p: compliance * operator.apply(p), heights + history_displacement,
-                    load=station.value if load_control else None, approach=None if load_control else station.value,
-                    offset=offset, coordinates=coordinates, diagonal=compliance * operator.diagonal, **arguments)
+                def solve(extra=0.0):
+                    return solve_normal(
+                        lambda p: compliance * operator.apply(p), heights + history_displacement + extra,
+                        load=station.value if load_control else None,
+                        approach=None if load_control else station.value, offset=offset, coordinates=coordinates,
+                        diagonal=compliance * operator.diagonal, **arguments)
+                if coupling is None:
+                    solution = solve()
+                else:
+                    coupled = coupling.solve(solve)
+                    solution = coupled.contact
+                    history_displacement = history_displacement + coupled.displacement
             if options.check_edges:
                 _check_edges(solution.pressure, grid, station.time, station.value, schedule.control)
             integrator.commit(station.time, solution.pressure)
@@ -351,7 +409,10 @@ class Simulation:
                                  pressure=solution.pressure,
                                  displacement=solution.displacement + history_displacement,
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
-                                 success=solution.success, tilt=tuple(np.arctan(solution.slopes)))
+                                 success=solution.success, tilt=tuple(np.arctan(solution.slopes)),
+                                 **({} if coupling is None else dict(
+                                     eigenstrain=coupled.inclusions.eigenstrain,
+                                     inclusion_stress=coupled.inclusions.stress, couplings=coupled.couplings)))
                 index += 1
 
     def run(self, progress=False, callback=None, checkpoint=None, every=10, resume=None):
@@ -388,7 +449,8 @@ class Simulation:
         every = check_positive_int(every, name="every (steps between checkpoints)")
         if checkpoint is not None:
             checkpoint = io.check_target(checkpoint, name="checkpoint")
-        self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options)
+        self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options,
+                                      inclusions=self.inclusions, inclusion_problem=self._inclusion_problem)
         state = None
         if resume is not None:
             state = self._resume(resume, result)
@@ -399,7 +461,9 @@ class Simulation:
 
         def save():
             position = self._position
-            io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1]),
+            extra = {} if self._coupling is None else {"eigenstrain": self._coupling.eigenstrain}
+            io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1],
+                                             **extra),
                     name="checkpoint")
 
         try:
