@@ -19,6 +19,8 @@ from ..materials import AnisotropicElastic, Elastic, rotate_stiffness
 #: Largest deviation ``max |R^T R - I|`` accepted in an orientation; the matrix is then made exactly orthogonal.
 ORTHOGONALITY_TOLERANCE = 1e-9
 
+_ROUNDING = 1e-14  # max |R^T R - I| of a rotation computed in double precision
+
 #: Fewest cuboids per semi-axis that the equivalent inclusion method accepts (along each semi-axis direction).
 MIN_CELLS_PER_SEMI_AXIS = 3
 
@@ -111,6 +113,8 @@ def _check_orientation(orientation):
     if determinant < 0.0:
         raise ParameterError(f"orientation must be a proper rotation (det = +1), got det = {determinant:.6g} "
                              f"(a reflection); swap two columns or negate one")
+    if deviation <= _ROUNDING:
+        return rotation  # orthogonal to double precision: kept bit for bit, so that a saved one reads back equal
     u, _, vt = np.linalg.svd(rotation)
     return u @ vt  # the nearest rotation: removes the rounding of typed-in matrices
 
