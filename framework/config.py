@@ -15,8 +15,9 @@ from .errors import ParameterError
 
 
 def _registry():
-    from . import grid, indenters, loads, materials, schedules, simulation, solver
+    from . import grid, inclusions, indenters, loads, materials, schedules, simulation, solver
     classes = [grid.Grid, materials.Elastic, materials.Viscoelastic, materials.Maxwell, materials.KelvinVoigt,
+               materials.AnisotropicElastic, inclusions.Ellipsoid, inclusions.InclusionSet,
                indenters.Sphere, indenters.FlatPunch, indenters.RoundedFlatPunch, indenters.Cylinder,
                indenters.HeightMap, loads.Step, loads.Ramp, loads.Hold, loads.Table, loads.Cyclic, loads.Sequence,
                schedules.Static, schedules.Eccentric, schedules.Rolling, simulation.Options, solver.SolverOptions]

@@ -18,6 +18,10 @@ class ShapeError(FrameworkError, ValueError):
     """An array does not have the shape the operation needs."""
 
 
+class InclusionError(ParameterError):
+    """Inclusions that cannot be modelled as placed: overlapping, cutting the surface, leaving the grid, under-resolved."""
+
+
 class GridTooSmallError(FrameworkError, ValueError):
     """The contact reaches the edge of a non-periodic grid: enlarge the grid or lower the load."""
 

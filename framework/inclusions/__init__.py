@@ -1,1 +1,12 @@
-"""Ellipsoidal inhomogeneities (equivalent inclusion method); arrives with THEORY.md sec. 8."""
+"""Ellipsoidal elastic inhomogeneities in the half-space (THEORY.md sec. 8: equivalent inclusion method).
+
+:class:`Ellipsoid` (centre, semi-axes, elastic or anisotropic material, orientation),
+:class:`InclusionSet` (any number of them, refused when they overlap), the orientation helpers
+:func:`euler_orientation` and :func:`axis_angle_orientation`, and the Perram-Wertheim
+:func:`contact_function` behind the overlap test.
+"""
+from .bodies import (MIN_CELLS_PER_SEMI_AXIS, Ellipsoid, InclusionSet, axis_angle_orientation, contact_function,
+                     euler_orientation)
+
+__all__ = ["MIN_CELLS_PER_SEMI_AXIS", "Ellipsoid", "InclusionSet", "axis_angle_orientation", "contact_function",
+           "euler_orientation"]

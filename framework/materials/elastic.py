@@ -4,6 +4,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_poisson, check_quantity
+from .anisotropic import isotropic_tensor
 from .base import ComplianceSeries
 
 
@@ -30,6 +31,11 @@ class Elastic:
     def contact_modulus(self):
         """Plane-strain modulus ``E* = E / (1 - nu^2)`` against a rigid body [Pa]."""
         return self.young / (1.0 - self.poisson**2)
+
+    @property
+    def stiffness_tensor(self):
+        """Fourth-order stiffness tensor ``C_ijkl`` [Pa], shape (3, 3, 3, 3) (none for ``poisson = 0.5``)."""
+        return isotropic_tensor(self.young, self.poisson)
 
     def relaxation(self, t):
         """Relaxation modulus ``E(t) = E`` [Pa]."""
