@@ -11,6 +11,8 @@
 - :mod:`.rolling`: steady rolling / frictionless sliding of a rigid cylinder
   (plane strain, Hunter 1961) and sphere over a viscoelastic half-space,
   solved densely (filtered influence coefficients, exact active set).
+- :mod:`.eshelby`: Eshelby tensor and interior field of an ellipsoidal inhomogeneity, Mindlin &
+  Cheng (1950) centre of dilatation, dilute change of an indenter's approach.
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
@@ -23,6 +25,9 @@ from .viscoelastic import (TingSolution, lee_radok_load_for_approach, lee_radok_
                            lee_radok_step_approach_load, lee_radok_step_load, lee_radok_step_load_pressure,
                            ting_contact_radius)
 from .westergaard import Westergaard
+from .eshelby import (InteriorSolution, dilatation_strength, dilatation_surface_displacement, dilute_approach_change,
+                      eshelby_integrals, eshelby_tensor, hertz_axis_stress, hertz_axis_stress_rate, interior_solution,
+                      isotropic_stiffness)
 
 __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "SteadyLineContact", "SteadySphereContact",
            "TingSolution", "Westergaard",
@@ -31,4 +36,7 @@ __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Ste
            "point_load_displacement", "point_load_stress", "rectangle_displacement_by_quadrature",
            "rectangle_stress_by_quadrature", "hertz_line_stress", "line_load_stress",
            "plane_strain_stress_by_quadrature", "strip_stress", "steady_line_contact", "steady_sphere",
-           "low_speed_friction_slope", "high_speed_sphere_friction"]
+           "low_speed_friction_slope", "high_speed_sphere_friction",
+           "InteriorSolution", "dilatation_strength", "dilatation_surface_displacement", "dilute_approach_change",
+           "eshelby_integrals", "eshelby_tensor", "hertz_axis_stress", "hertz_axis_stress_rate", "interior_solution",
+           "isotropic_stiffness"]
