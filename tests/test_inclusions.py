@@ -1,0 +1,226 @@
+"""Ellipsoidal inhomogeneities: eigenstrain operators, equivalent inclusion method, coupling with contact.
+
+References written independently of the code they check: Kelvin/Mindlin cuboid strains by face
+quadrature (framework.reference.eigenstrain), Eshelby's interior solution and Mindlin & Cheng's
+centre of dilatation (framework.reference.eshelby).
+"""
+import numpy as np
+import pytest
+
+import framework as fw
+from framework import inclusions, indenters, loads, materials, schedules
+from framework.errors import ParameterError, ShapeError
+from framework.operators.eigenstrain import (COMPONENTS, HalfSpaceEigenstrain, potential_kernels,
+                                             strain_from_potentials)
+from framework.reference import eshelby
+
+NU = 0.3
+E = 200e9
+
+
+def tensor(vector):
+    out = np.zeros(vector.shape[:-1] + (3, 3))
+    for c, (i, j) in enumerate(COMPONENTS):
+        out[..., i, j] = out[..., j, i] = vector[..., c]
+    return out
+
+
+def vector(matrix):
+    return np.array([matrix[..., i, j] for i, j in COMPONENTS]).T
+
+
+# --- operators -------------------------------------------------------------------------------
+
+def test_cuboid_kernels_match_kelvin_quadrature():
+    """Chiu's corner sums for one cuboid against face quadrature of Kelvin's solution, inside and out."""
+    from framework.reference.eigenstrain import kelvin_cuboid_strain
+    half = np.array([0.5, 0.4, 0.3])
+    rng = np.random.default_rng(3)
+    eigen = rng.normal(size=(3, 3))
+    eigen = 0.5 * (eigen + eigen.T)
+    # targets: the centre, a neighbour and far cuboid centres of a lattice of this cuboid
+    targets = np.array([[0, 0, 0], [1, 0, 0], [1, 1, -1], [3, -2, 5]]) * 2 * half
+    faces = [np.sort(np.concatenate([[t - h, t + h] for t in np.unique(targets[:, a])])) for a, h in
+             zip(range(3), half)]
+    reference = kelvin_cuboid_strain(targets, center=np.zeros(3), half_sizes=half, eigenstrain=eigen, poisson=NU)
+    for target, expected in zip(targets, reference):
+        potentials = potential_kernels(*[np.array([t - h, t + h]) for t, h in zip(target, half)])
+        strain = strain_from_potentials({k: v[0, 0, 0] for k, v in potentials.items()}, vector(eigen), NU)
+        assert np.abs(strain - vector(expected)).max() <= 1e-9 * np.abs(expected).max()
+    assert faces  # the lattice spans the targets
+
+
+def test_fft_operator_equals_direct_sums():
+    """The 3-D FFT products equal the direct corner sums over the same box (all three terms)."""
+    grid = fw.Grid(shape=(24, 20), size=(2.4e-3, 2.0e-3), depth=1.0e-3, layers=10)
+    operator = HalfSpaceEigenstrain(grid, NU, start=(8, 6, 2), shape=(7, 5, 4))
+    eigen = np.random.default_rng(1).normal(size=(7, 5, 4, 6)) * 1e-3
+    strain = operator.strain(eigen)
+    cells = [(0, 0, 0), (3, 2, 3), (6, 4, 1)]
+    points = np.array([[grid.x1[8 + i], grid.x2[6 + j], grid.x3[2 + k]] for i, j, k in cells])
+    direct = operator.strain_at(points, eigen)
+    assert np.abs(direct - np.array([strain[c] for c in cells])).max() <= 1e-12 * np.abs(strain).max()
+
+
+def test_half_space_cuboid_against_mindlin_quadrature():
+    """One loaded cuboid in the half-space: strain around it against Mindlin's point-force solution."""
+    from framework.reference.eigenstrain import mindlin_cuboid_strain
+    errors = []
+    for cells in (8, 16):
+        h = 1e-3 / cells
+        grid = fw.Grid(shape=(4 * cells, 4 * cells), size=(4e-3, 4e-3), depth=1.5e-3, layers=int(1.5 * cells))
+        source = (2 * cells, 2 * cells, cells // 2)                      # centre at depth ~ 0.5 mm
+        operator = HalfSpaceEigenstrain(grid, NU, start=(source[0] - 2, source[1] - 2, source[2] - 2),
+                                        shape=(5, 5, 5))
+        eigen = np.zeros((5, 5, 5, 6))
+        eigen[2, 2, 2] = [1e-3, -0.5e-3, 2e-3, 0.7e-3, -0.3e-3, 0.4e-3]
+        strain = operator.strain(eigen)
+        centre = np.array([grid.x1[source[0]], grid.x2[source[1]], grid.x3[source[2]]])
+        offsets = [(0, 0, 0), (1, 0, 0), (0, 0, -2), (2, 1, 2)]
+        points = np.array([centre + np.array(o) * h for o in offsets])
+        expected = mindlin_cuboid_strain(points, center=centre, half_sizes=np.full(3, h / 2),
+                                         eigenstrain=tensor(eigen[2, 2, 2]), poisson=NU)
+        got = np.array([strain[2 + o[0], 2 + o[1], 2 + o[2]] for o in offsets])
+        errors.append(np.abs(got - vector(expected)).max() / np.abs(vector(expected)).max())
+    # the Boussinesq correction samples the surface traction at the cell centres: second order
+    assert errors[-1] < 2e-3
+    assert errors[-1] < errors[0]
+
+
+def test_surface_displacement_of_a_spherical_dilatation_mindlin_cheng():
+    """Betti's surface displacement of a dilated sphere against Mindlin & Cheng's centre of dilatation."""
+    grid = fw.Grid(shape=(64, 64), size=(4e-3, 4e-3), depth=2e-3, layers=32)
+    operator = HalfSpaceEigenstrain(grid, NU, start=(24, 24, 8), shape=(16, 16, 16))
+    x1, x2, x3 = grid.x1[24:40], grid.x2[24:40], grid.x3[8:24]
+    X = np.stack(np.meshgrid(x1, x2, x3, indexing="ij"), axis=-1)
+    inside = np.linalg.norm(X - [0, 0, 1e-3], axis=-1) < 0.4e-3
+    eigen = np.zeros((16, 16, 16, 6))
+    eigen[inside, :3] = 1e-3
+    displacement = operator.surface_displacement(eigen)
+    volume = inside.sum() * np.prod(operator.spacing)                   # the staircase sphere's volume
+    radius = (3 * volume / (4 * np.pi)) ** (1 / 3)
+    strength = eshelby.dilatation_strength(radius, 1e-3, NU)
+    X1, X2 = grid.coordinates()
+    _, expected = eshelby.dilatation_surface_displacement(np.hypot(X1, X2), 1e-3, strength, NU)
+    assert np.abs(displacement - expected).max() <= 5e-3 * np.abs(expected).max()
+    assert displacement[32, 32] < 0                                     # the surface rises
+
+
+def test_operator_refuses_bad_boxes():
+    grid = fw.Grid(shape=(16, 16), size=(1e-3, 1e-3), depth=1e-3, layers=8)
+    with pytest.raises(ParameterError, match="box along axis 2"):
+        HalfSpaceEigenstrain(grid, NU, start=(0, 0, 4), shape=(4, 4, 5))
+    with pytest.raises(ParameterError, match="open grid"):
+        HalfSpaceEigenstrain(fw.Grid(shape=(16, 16), size=(1e-3, 1e-3), depth=1e-3, layers=8,
+                                     periodic=(True, True)), NU, start=(0, 0, 0), shape=(4, 4, 4))
+    operator = HalfSpaceEigenstrain(grid, NU, start=(0, 0, 0), shape=(4, 4, 4))
+    with pytest.raises(ShapeError, match=r"eigenstrain has shape \(4, 4, 6\)"):
+        operator.strain(np.zeros((4, 4, 6)))
+
+
+# --- equivalent inclusion method: deep inhomogeneities against Eshelby --------------------------
+
+def cubic_stiffness(c11, c12, c44):
+    c = np.zeros((6, 6))
+    c[:3, :3] = c12
+    np.fill_diagonal(c[:3, :3], c11)
+    c[3:, 3:] = np.diag([c44] * 3)
+    return c
+
+
+def deep_solve(semi_axes, material, orientation=None, cells=8, depth=6.0):
+    """Solve one inhomogeneity of largest semi-axis 1 mm at ``depth`` mm; cell size = 1 mm / ``cells``."""
+    a = 1e-3
+    h = a / cells
+    n = 4 * cells
+    grid = fw.Grid(shape=(n, n), size=(n * h, n * h), depth=(depth + 1.5) * a,
+                   layers=int(round((depth + 1.5) * a / h)))
+    body = inclusions.Ellipsoid(center=(0.0, 0.0, depth * a), semi_axes=tuple(s * a for s in semi_axes),
+                                material=material, orientation=orientation)
+    applied = np.array([[1e-3, 0.4e-3, -0.2e-3], [0.4e-3, -0.5e-3, 0.3e-3], [-0.2e-3, 0.3e-3, 0.8e-3]])
+    solution = fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], applied)
+    expected = eshelby.interior_solution(body.semi_axes, body.orientation, E, NU, body.stiffness_tensor,
+                                         applied).stress
+    inside = solution.inhomogeneity[solution.box] > 0
+    interior = solution.stress[inside]
+    scale = np.abs(expected).max()
+    return (np.abs(interior.mean(axis=0) - vector(expected)).max() / scale, solution)
+
+
+TILT = inclusions.axis_angle_orientation((0, 1, 0), np.radians(30))
+CASES = {
+    "stiff sphere": ((1, 1, 1), materials.Elastic(3 * E, NU), None),
+    "soft sphere": ((1, 1, 1), materials.Elastic(E / 3, 0.25), None),
+    "prolate": ((1, 0.5, 0.5), materials.Elastic(3 * E, NU), None),
+    "oblate": ((1, 1, 0.5), materials.Elastic(E / 2, NU), None),
+    "tilted general": ((1, 0.7, 0.45), materials.Elastic(2 * E, 0.2), TILT),
+    "anisotropic": ((1, 0.8, 0.6), materials.AnisotropicElastic(cubic_stiffness(500e9, 200e9, 150e9)), TILT),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_deep_inhomogeneity_matches_eshelby(case):
+    """Mean interior stress within 2 % of Eshelby's uniform solution at 8 cells per largest semi-axis."""
+    semi_axes, material, orientation = CASES[case]
+    error, solution = deep_solve(semi_axes, material, orientation, cells=8)
+    assert solution.success
+    assert error < 0.02, f"{case}: {error:.4f}"
+
+
+def test_deep_inhomogeneity_converges_under_refinement():
+    errors = [deep_solve((1, 1, 1), materials.Elastic(3 * E, NU), cells=c)[0] for c in (4, 6, 8)]
+    assert errors[0] > errors[1] > errors[2]
+
+
+@pytest.mark.slow
+def test_deep_inhomogeneity_converges_under_refinement_fine():
+    errors = [deep_solve((1, 1, 1), materials.Elastic(10 * E, NU), cells=c)[0] for c in (4, 8, 12, 16)]
+    assert all(a > b for a, b in zip(errors, errors[1:]))
+    assert errors[-1] < 0.015
+
+
+def test_matrix_stiffness_gives_the_homogeneous_solution():
+    """An inhomogeneity with the matrix's own stiffness: no eigenstrain, the applied stress everywhere."""
+    grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
+    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.6e-3, 0.5e-3, 0.4e-3),
+                                material=materials.Elastic(E, NU), orientation=TILT)
+    applied = np.diag([1e-3, -2e-3, 0.5e-3])
+    solution = fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], applied)
+    stiffness = eshelby.isotropic_stiffness(E, NU)
+    homogeneous = vector(np.einsum("ijkl,kl->ij", stiffness, applied))
+    assert np.abs(solution.eigenstrain).max() <= 1e-14 * np.abs(applied).max()   # the contrast is rounding
+    assert np.abs(solution.stress - homogeneous).max() <= 1e-10 * np.abs(homogeneous).max()
+    points = np.array([[0, 0, 1e-3], [0.3e-3, -0.2e-3, 0.7e-3]])
+    assert np.abs(solution.stress_at(points) - homogeneous).max() <= 1e-10 * np.abs(homogeneous).max()
+
+
+def test_stress_at_cuboid_centres_equals_the_box_field():
+    """Direct sums at cuboid centres, inside and outside the inhomogeneity, equal the FFT box field."""
+    grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
+    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.6e-3, 0.5e-3, 0.4e-3),
+                                material=materials.Elastic(3 * E, NU), orientation=TILT)
+    solution = fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], np.diag([1e-3, 0, -1e-3]), margin=0.2e-3)
+    box = solution.box
+    indicator = solution.inhomogeneity[box]
+    cells = np.concatenate([np.argwhere(indicator > 0)[::40], np.argwhere(indicator == 0)[::200]])
+    points = np.array([[grid.x1[box[0]][i], grid.x2[box[1]][j], grid.x3[box[2]][k]] for i, j, k in cells])
+    expected = np.array([solution.stress[tuple(c)] for c in cells])
+    assert np.abs(solution.stress_at(points) - expected).max() <= 1e-6 * np.abs(expected).max()
+
+
+# --- bad input -------------------------------------------------------------------------------
+
+def test_too_soft_inhomogeneity_is_refused():
+    grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
+    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.5e-3,) * 3, material=materials.Elastic(E / 10, NU))
+    with pytest.raises(ParameterError, match=r"inclusions\[0\].material is too soft .* expected >= 0.25"):
+        fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], np.eye(3) * 1e-3)
+
+
+def test_applied_strain_must_be_a_symmetric_tensor():
+    grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
+    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.5e-3,) * 3, material=materials.Elastic(2 * E, NU))
+    with pytest.raises(ParameterError, match="applied_strain must be symmetric"):
+        fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], [[0, 1e-3, 0], [0, 0, 0], [0, 0, 0]])
+    with pytest.raises(ShapeError, match="applied_strain must be a 3x3 strain tensor"):
+        fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], np.zeros(6))
