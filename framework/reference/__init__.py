@@ -11,6 +11,8 @@
 - :mod:`.rolling`: steady rolling / frictionless sliding of a rigid cylinder
   (plane strain, Hunter 1961) and sphere over a viscoelastic half-space,
   solved densely (filtered influence coefficients, exact active set).
+- :mod:`.eigenstrain`: strain of a uniform eigenstrain in a cuboid in an infinite body (Kelvin) and
+  a half-space (Mindlin 1936), and the half-space's surface displacement, by face quadrature.
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
@@ -23,6 +25,8 @@ from .viscoelastic import (TingSolution, lee_radok_load_for_approach, lee_radok_
                            lee_radok_step_approach_load, lee_radok_step_load, lee_radok_step_load_pressure,
                            ting_contact_radius)
 from .westergaard import Westergaard
+from .eigenstrain import (kelvin_cuboid_strain, kelvin_point_force_displacement, mindlin_cuboid_strain,
+                          mindlin_cuboid_surface_displacement, mindlin_point_force_displacement)
 
 __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "SteadyLineContact", "SteadySphereContact",
            "TingSolution", "Westergaard",
@@ -31,4 +35,6 @@ __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Ste
            "point_load_displacement", "point_load_stress", "rectangle_displacement_by_quadrature",
            "rectangle_stress_by_quadrature", "hertz_line_stress", "line_load_stress",
            "plane_strain_stress_by_quadrature", "strip_stress", "steady_line_contact", "steady_sphere",
-           "low_speed_friction_slope", "high_speed_sphere_friction"]
+           "low_speed_friction_slope", "high_speed_sphere_friction",
+           "kelvin_cuboid_strain", "kelvin_point_force_displacement", "mindlin_cuboid_strain",
+           "mindlin_cuboid_surface_displacement", "mindlin_point_force_displacement"]
