@@ -29,7 +29,7 @@ HALF = np.array([1.0, 0.7, 0.5])
 
 def eigenstress(eps):
     """C : eps for a unit shear modulus."""
-    return 2.0 * eps + LAMBDA * np.trace(eps) * np.eye(3)
+    return 2.0 * eps + LAMBDA * np.trace(eps, axis1=-2, axis2=-1)[..., None, None] * np.eye(3)
 
 
 def kelvin_second_derivatives(r):
@@ -232,3 +232,66 @@ def test_mindlin_reciprocity_kelvin_limit_and_boussinesq():
     surface = mindlin_point_force_displacement(points, np.zeros(3), shear_modulus=1.0, poisson=NU)[:, :, 2]
     expected = point_load_displacement(points[:, 0], points[:, 1], points[:, 2], young=young, poisson=NU)
     assert np.abs(surface - expected).max() < 1e-14 * np.abs(expected).max()
+
+
+# --- Mindlin's cuboid -----------------------------------------------------------------------------------------
+
+BURIED = np.array([0.2, -0.1, 0.8])  # top face at depth 0.3
+
+
+def test_mindlin_gauss_rule_converges_to_1e_10():
+    points = np.array([[0.0, 0.0, 0.0], [0.3, 0.2, 0.0], [1.5, 0.2, 0.0], [0.4, 0.1, 0.6], [0.2, 0.1, 1.55]])
+    args = dict(center=BURIED, half_sizes=HALF, eigenstrain=EIGENSTRAIN, poisson=NU)
+    coarse = mindlin_cuboid_strain(points, order=10, **args)
+    fine = mindlin_cuboid_strain(points, order=20, **args)
+    assert np.abs(coarse - fine).max() < 1e-10 * np.abs(EIGENSTRAIN).max()
+
+
+def test_mindlin_cuboid_surface_is_traction_free():
+    points = np.array([[0.0, 0.0, 0.0], [0.3, 0.2, 0.0], [1.5, 0.2, 0.0], [-2.0, 3.0, 0.0]])
+    strain = mindlin_cuboid_strain(points, center=BURIED, half_sizes=HALF, eigenstrain=EIGENSTRAIN, poisson=NU)
+    stress = eigenstress(strain)
+    assert np.abs(stress[:, :, 2]).max() < 1e-12 * np.abs(stress).max()
+    assert np.abs(stress).max() > 1e-2 * np.abs(EIGENSTRAIN).max()
+
+
+def test_mindlin_cuboid_tends_to_kelvin_deep_down():
+    """The surface's effect at the cuboid falls like depth^-3 (the image of a force dipole)."""
+    gaps = []
+    for depth in (10.0, 20.0, 40.0):
+        center = np.array([0.0, 0.0, depth])
+        points = center + np.array([[0.1, 0.2, -0.3], [1.0, 0.5, 0.7]])
+        args = dict(center=center, half_sizes=HALF, eigenstrain=EIGENSTRAIN, poisson=NU)
+        gaps.append(np.abs(mindlin_cuboid_strain(points, **args) - kelvin_cuboid_strain(points, **args)).max())
+    assert gaps[-1] < 1e-5 * np.abs(EIGENSTRAIN).max()
+    assert np.allclose(np.log2(np.array(gaps[:-1]) / gaps[1:]), 3.0, atol=0.05)
+
+
+def test_mindlin_surface_displacement_is_mindlin_cheng_centre_of_dilatation():
+    """A small cube (V = 8 h^3) of dilatation eps* at depth c: u_r = 4(1-nu) C r/R^3, u_3 = -4(1-nu) C c/R^3,
+    C = (1+nu) eps* V / (4 pi (1-nu)) (Mindlin & Cheng 1950).  Cubic symmetry leaves an error ~ (h/c)^4."""
+    depth, eps = 2.0, 1e-3
+    xy = np.array([[0.0, 0.0], [1.0, 0.5], [3.0, -1.0]])
+    radius = np.linalg.norm(xy, axis=1)
+    distance = np.hypot(radius, depth)
+    errors = []
+    for half in (0.2, 0.1):
+        strength = (1 + NU) * eps * 8 * half**3 / (4 * np.pi * (1 - NU))
+        expected = 4 * (1 - NU) * strength / distance[:, None] ** 3 * np.column_stack([xy, -depth + 0 * radius])
+        u = mindlin_cuboid_surface_displacement(xy, center=[0.0, 0.0, depth], half_sizes=[half] * 3,
+                                                eigenstrain=eps * np.eye(3), poisson=NU)
+        errors.append(np.abs(u - expected).max() / np.abs(expected).max())
+    assert errors[-1] < 1e-5
+    assert np.log2(errors[0] / errors[1]) == pytest.approx(4.0, abs=0.1)
+
+
+def test_mindlin_surface_displacement_matches_surface_strain():
+    """d u_1 / d x_1 and d u_2 / d x_2 of the surface displacement (finite differences) are the surface strains."""
+    args = dict(center=BURIED, half_sizes=HALF, eigenstrain=EIGENSTRAIN, poisson=NU)
+    for x in ([0.4, 0.1], [1.5, -0.6]):
+        x = np.array(x + [0.0])
+        strain = mindlin_cuboid_strain(x[None], **args)[0]
+        def surface(y):
+            return mindlin_cuboid_surface_displacement(y[None, :2], **args)[0]
+        gradient = np.column_stack([derivative(surface, x, k, 1e-3) for k in range(2)])[:2]  # d u_i / d x_k, i, k < 2
+        assert np.abs(strain_of_gradient(gradient) - strain[:2, :2]).max() < 1e-9 * np.abs(EIGENSTRAIN).max()
