@@ -4,7 +4,7 @@ An independent reference for the closed-form (corner-sum) and FFT eigenstrain
 operators: it shares no algebra with them.  The displacement caused by an
 eigenstrain ``eps*`` in a homogeneous isotropic body is (T. Mura,
 *Micromechanics of Defects in Solids*, 2nd ed., Martinus Nijhoff, 1987,
-eq. 3.7 for the infinite body)::
+chapter 1, there for the infinite body)::
 
     u_i(x) = -int_V C_jlmn eps*_mn(x') dG_ij(x, x')/dx_l dV'
 
@@ -23,7 +23,7 @@ integrand when ``x`` is off the faces, inside the cuboid or outside alike.
 Green's functions (shear modulus 1; the strain does not depend on it):
 
 - infinite body, Kelvin (W. Thomson, *Cambridge and Dublin Math. J.* 3, 1848;
-  Mura 1987 eq. 5.6)::
+  Mura 1987, chapter 1)::
 
       G_ij = [(3-4nu) delta_ij / r + r_i r_j / r^3] / (16 pi mu (1-nu)),  r = x - x'
 
@@ -45,8 +45,8 @@ solid (along ``+x3``), tensor (not engineering) shear strains.
 """
 import numpy as np
 
-from .._validation import check_finite_array, check_positive_int, check_real
-from ..errors import ParameterError
+from .._validation import check_finite_array, check_poisson, check_positive, check_positive_int, check_real
+from ..errors import ParameterError, ShapeError
 
 #: A panel is halved along each side longer than this times its distance to the nearest singular point.
 _RATIO = 1.0
@@ -58,7 +58,7 @@ _SMALLEST = 1e-9
 _STEP = 1e-30
 
 
-def _shear_free_poisson(poisson):
+def _eigenstrain_poisson(poisson):
     """Poisson's ratio admitted here: -1 < nu < 0.5 (sigma* = C : eps* is unbounded at 0.5)."""
     nu = check_real(poisson, name="poisson")
     if not -1.0 < nu < 0.5:
@@ -89,18 +89,11 @@ def kelvin_point_force_displacement(points, source, *, shear_modulus, poisson):
 
     Notes
     -----
-    Kelvin's solution (Mura 1987 eq. 5.6), ``r = x - x'``::
+    Kelvin's solution (Mura 1987, chapter 1), ``r = x - x'``::
 
         G_ij = [(3-4nu) delta_ij / r + r_i r_j / r^3] / (16 pi mu (1-nu))
     """
-    points = check_finite_array(points, name="points", ndim=2)
-    source = check_finite_array(source, name="source", shape=(3,))
-    mu = check_real(shear_modulus, name="shear_modulus")
-    if mu <= 0.0:
-        raise ParameterError(f"shear_modulus must be positive [Pa], got {shear_modulus!r}")
-    nu = check_real(poisson, name="poisson")
-    if not -1.0 < nu <= 0.5:
-        raise ParameterError(f"poisson must lie in (-1, 0.5], got {poisson!r}")
+    points, source, mu, nu = _check_point_force(points, source, shear_modulus, poisson)
     return _kelvin(points, source, nu) / mu
 
 
@@ -109,25 +102,21 @@ def mindlin_point_force_displacement(points, source, *, shear_modulus, poisson):
 
     Parameters
     ----------
-    points : array_like, shape (n, 3)
-        Field points, ``x3 >= 0`` the depth [m]; none may coincide with ``source``.
-    source : array_like, shape (3,)
-        Point of application of the force, at depth ``c = source[2] >= 0`` [m].
-    shear_modulus : float
-        Shear modulus mu [Pa].
-    poisson : float
-        Poisson's ratio nu [-].
+    points, source, shear_modulus, poisson
+        As in :func:`kelvin_point_force_displacement`, with ``x3 >= 0`` the
+        depth of the points and of the force ``c = source[2]`` [m].
 
     Returns
     -------
     ndarray, shape (n, 3, 3)
-        ``G[:, i, j]``, the displacement along ``i`` per newton of force along
-        ``j`` [m/N]; ``u3`` and the force along ``x3`` point into the solid.
+        ``G[:, i, j]`` [m/N] as in :func:`kelvin_point_force_displacement`;
+        ``u3`` and the force along ``x3`` point into the solid.
 
     Notes
     -----
-    Mindlin (1936), in the form of H. G. Poulos & E. H. Davis, *Elastic
-    Solutions for Soil and Rock Mechanics*, Wiley (1974), eqs. 2.1-2.2, with
+    Mindlin (1936), in the form usually quoted (e.g. H. G. Poulos & E. H.
+    Davis, *Elastic Solutions for Soil and Rock Mechanics*, Wiley, 1974,
+    chapter 2), with
     ``x, y`` the horizontal offsets from the force, ``z`` the depth of the
     field point, ``R1^2 = x^2 + y^2 + (z-c)^2``, ``R2^2 = x^2 + y^2 + (z+c)^2``,
     ``k = 1 / (16 pi mu (1-nu))``, ``a = 3-4nu``, ``b = 4(1-nu)(1-2nu)``.
@@ -148,18 +137,20 @@ def mindlin_point_force_displacement(points, source, *, shear_modulus, poisson):
     is free of traction, that Navier's equations hold and that the solution
     tends to Kelvin's far from the surface.
     """
-    points = check_finite_array(points, name="points", ndim=2)
-    source = check_finite_array(source, name="source", shape=(3,))
-    mu = check_real(shear_modulus, name="shear_modulus")
-    if mu <= 0.0:
-        raise ParameterError(f"shear_modulus must be positive [Pa], got {shear_modulus!r}")
-    nu = check_real(poisson, name="poisson")
-    if not -1.0 < nu <= 0.5:
-        raise ParameterError(f"poisson must lie in (-1, 0.5], got {poisson!r}")
+    points, source, mu, nu = _check_point_force(points, source, shear_modulus, poisson)
     if source[2] < 0.0 or np.any(points[:, 2] < 0.0):
         raise ParameterError("points and source must lie in the half-space x3 >= 0, got depths "
                              f"{float(min(source[2], points[:, 2].min()))!r}")
     return _mindlin(points, source, nu) / mu
+
+
+def _check_point_force(points, source, shear_modulus, poisson):
+    """Validated (points (n, 3), source (3,), mu, nu) of a point-force solution."""
+    points = check_finite_array(points, name="points", ndim=2)
+    if points.shape[1] != 3:
+        raise ShapeError(f"points must have shape (n, 3), got {points.shape}")
+    source = check_finite_array(source, name="source", shape=(3,))
+    return points, source, check_positive(shear_modulus, name="shear_modulus", unit="Pa"), check_poisson(poisson)
 
 
 def _kelvin(x, source, nu):
@@ -199,8 +190,8 @@ def _mindlin(x, source, nu):
     return _kelvin(x, source, nu) + k * image
 
 
-def _faces(half_sizes):
-    """The 6 faces of the cuboid centred on the origin: (normal axis, outward sign, in-plane axes)."""
+def _faces():
+    """The 6 faces of a cuboid: (normal axis, outward sign, in-plane axes)."""
     for axis in range(3):
         others = [a for a in range(3) if a != axis]
         for sign in (-1.0, 1.0):
@@ -242,20 +233,18 @@ def _face_rule(target, center, half_sizes, traction, order, mirror):
     singular = np.array([target, target * [1.0, 1.0, -1.0]]) if mirror else target[None, :]
     base, base_weights = np.polynomial.legendre.leggauss(order)
     nodes, weights, forces = [], [], []
-    for axis, sign, others in _faces(half_sizes):
+    for axis, sign, others in _faces():
         plane = center[axis] + sign * half_sizes[axis]
         low = center[others] - half_sizes[others]
         high = center[others] + half_sizes[others]
         panels = _panels(low, high, singular, plane, axis, others)
         mid_a, half_a = 0.5 * (panels[:, 0] + panels[:, 1]), 0.5 * (panels[:, 1] - panels[:, 0])
         mid_b, half_b = 0.5 * (panels[:, 2] + panels[:, 3]), 0.5 * (panels[:, 3] - panels[:, 2])
-        a = (mid_a[:, None, None] + half_a[:, None, None] * base[None, :, None]) + 0.0 * base[None, None, :]
-        b = (mid_b[:, None, None] + half_b[:, None, None] * base[None, None, :]) + 0.0 * base[None, :, None]
         w = (half_a * half_b)[:, None, None] * base_weights[None, :, None] * base_weights[None, None, :]
-        points = np.empty(a.shape + (3,))
+        points = np.empty(w.shape + (3,))  # (panel, node along a, node along b, xyz)
         points[..., axis] = plane
-        points[..., others[0]] = a
-        points[..., others[1]] = b
+        points[..., others[0]] = (mid_a[:, None] + half_a[:, None] * base)[:, :, None]
+        points[..., others[1]] = (mid_b[:, None] + half_b[:, None] * base)[:, None, :]
         nodes.append(points.reshape(-1, 3))
         weights.append(w.ravel())
         forces.append(np.broadcast_to(sign * traction[axis], (w.size, 3)))
@@ -288,14 +277,14 @@ def _check_cuboid(points, center, half_sizes, eigenstrain, poisson, order, half_
     eigenstrain = check_finite_array(eigenstrain, name="eigenstrain", shape=(3, 3))
     if np.any(np.abs(eigenstrain - eigenstrain.T) > 1e-12 * np.abs(eigenstrain).max()):
         raise ParameterError(f"eigenstrain must be a symmetric 3x3 tensor, got {eigenstrain.tolist()}")
-    nu = _shear_free_poisson(poisson)
+    nu = _eigenstrain_poisson(poisson)
     order = check_positive_int(order, name="order", minimum=2)
     if half_space:
         if center[2] - half_sizes[2] < 0.0:
             raise ParameterError("the cuboid must lie in the half-space x3 >= 0: center[2] - half_sizes[2] "
-                                 f"must be >= 0 [m], got {center[2] - half_sizes[2]!r}")
+                                 f"must be >= 0 [m], got {center[2] - half_sizes[2]:g}")
         if half_space is True and np.any(points[:, 2] < 0.0):
-            raise ParameterError(f"points must lie in the half-space x3 >= 0, got x3 = {points[:, 2].min()!r}")
+            raise ParameterError(f"points must lie in the half-space x3 >= 0, got x3 = {points[:, 2].min():g}")
     if half_space != "surface":
         on_face = np.all(np.abs(points - center) <= half_sizes, axis=1) & np.any(
             np.abs(np.abs(points - center) - half_sizes) == 0.0, axis=1)
@@ -305,13 +294,20 @@ def _check_cuboid(points, center, half_sizes, eigenstrain, poisson, order, half_
     return points, center, half_sizes, 0.5 * (eigenstrain + eigenstrain.T), nu, order
 
 
+def _local_frame(center, half_sizes, mirror):
+    """(origin, scale, centre, half-sizes): lengths scaled by the largest half-size about ``origin``.
+
+    The origin is the cuboid's centre, or its projection on the surface for the
+    half-space (``mirror``), whose surface stays at x3 = 0.
+    """
+    scale = half_sizes.max()
+    origin = np.array([center[0], center[1], 0.0 if mirror else center[2]])
+    return origin, scale, (center - origin) / scale, half_sizes / scale
+
+
 def _cuboid_strain(points, center, half_sizes, eigenstrain, nu, order, mirror):
     """Strain (n, 3, 3) at ``points`` from the face integral with Kelvin's or Mindlin's G (``mirror``)."""
-    scale = half_sizes.max()
-    # scaled so that the cuboid's largest half-size is 1; Mindlin keeps the surface at x3 = 0
-    origin = np.array([center[0], center[1], 0.0 if mirror else center[2]])
-    local_center = (center - origin) / scale
-    local_half = half_sizes / scale
+    origin, scale, local_center, local_half = _local_frame(center, half_sizes, mirror)
     traction = _eigenstress(eigenstrain, nu).T  # row m: sigma*[:, m]
     green = (lambda x, y: _mindlin(x, y, nu)) if mirror else (lambda x, y: _kelvin(x, y, nu))
     strain = np.empty((len(points), 3, 3))
@@ -413,13 +409,12 @@ def mindlin_cuboid_surface_displacement(points_xy, *, center, half_sizes, eigens
     """
     points, center, half_sizes, eigenstrain, nu, order = _check_cuboid(
         points_xy, center, half_sizes, eigenstrain, poisson, order, half_space="surface")
-    scale = half_sizes.max()
-    origin = np.array([center[0], center[1], 0.0])
-    local_center = (center - origin) / scale
+    origin, scale, local_center, local_half = _local_frame(center, half_sizes, mirror=True)
     traction = _eigenstress(eigenstrain, nu).T
     displacement = np.empty((len(points), 3))
     for n, xy in enumerate((points - origin[:2]) / scale):
         x = np.array([xy[0], xy[1], 0.0])
-        nodes, weights, forces = _face_rule(x, local_center, half_sizes / scale, traction, order, mirror=False)
+        # on the surface the field point is its own image: one singular point
+        nodes, weights, forces = _face_rule(x, local_center, local_half, traction, order, mirror=False)
         displacement[n] = np.einsum("nij,nj,n->i", _mindlin(x, nodes, nu), forces, weights)
     return displacement * scale
