@@ -224,3 +224,59 @@ def test_applied_strain_must_be_a_symmetric_tensor():
         fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], [[0, 1e-3, 0], [0, 0, 0], [0, 0, 0]])
     with pytest.raises(ShapeError, match="applied_strain must be a 3x3 strain tensor"):
         fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], np.zeros(6))
+
+
+# --- coupled with the contact ------------------------------------------------------------------
+
+def contact_run(material=None, depth=0.15e-3, radius=0.06e-3, load=40.0, cells=64, center=(0.0, 0.0)):
+    """A steel ball (R = 10 mm) on steel; contact radius ~0.11 mm; one inhomogeneity below the axis."""
+    grid = fw.Grid(shape=(cells, cells), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=cells // 2)
+    bodies = None if material is None else [inclusions.Ellipsoid(center=(*center, depth), semi_axes=(radius,) * 3,
+                                                                 material=material)]
+    simulation = fw.Simulation(grid=grid, material=materials.Elastic(E, NU), indenter=indenters.Sphere(radius=10e-3),
+                               schedule=schedules.Static(load=loads.Step(load), times=[1.0]), inclusions=bodies,
+                               options={"tolerance": 1e-10})
+    return simulation.run()
+
+
+def test_stiff_raises_soft_lowers_the_pressure_and_the_effect_fades_with_depth():
+    base = contact_run()
+    peak = base.max_pressure[-1]
+    changes = {}
+    for name, material in (("stiff", materials.Elastic(3 * E, NU)), ("soft", materials.Elastic(E / 3, NU))):
+        changes[name] = [contact_run(material, depth=d).max_pressure[-1] / peak - 1 for d in (0.1e-3, 0.2e-3)]
+    assert changes["stiff"][0] > changes["stiff"][1] > 0
+    assert changes["soft"][0] < changes["soft"][1] < 0
+
+
+def test_small_inhomogeneity_follows_the_dilute_approach_change():
+    """Approach change of a small sphere at depth a/2 against Eshelby + Betti (first order in its volume)."""
+    load, depth = 40.0, 0.06e-3
+    base = contact_run(load=load, cells=128)
+    for material in (materials.Elastic(3 * E, NU), materials.Elastic(E / 3, NU)):
+        run = contact_run(material, depth=depth, radius=0.02e-3, load=load, cells=128)
+        indicator = run.inhomogeneity(0)
+        volume = np.count_nonzero(indicator) * run.grid.cell_area * run.grid.layer_thickness
+        radius = (3 * volume / (4 * np.pi)) ** (1 / 3)                # the staircase sphere's volume
+        stress = eshelby.hertz_axis_stress(load, 10e-3, E, NU, depth)
+        rate = eshelby.hertz_axis_stress_rate(load, 10e-3, E, NU, depth)
+        expected = eshelby.dilute_approach_change(stress, (radius,) * 3, None, E, NU, material.stiffness_tensor,
+                                                  load, stress_rate=rate)
+        change = run.approach[-1] - base.approach[-1]
+        assert change == pytest.approx(expected, rel=0.1), (material, change, expected)
+
+
+def test_simulation_refuses_what_the_coupling_cannot_do():
+    grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=16)
+    body = [inclusions.Ellipsoid(center=(0, 0, 0.15e-3), semi_axes=(0.06e-3,) * 3, material=materials.Elastic(3 * E, NU))]
+    ball = indenters.Sphere(radius=10e-3)
+    static = schedules.Static(load=loads.Step(40.0), times=[1.0])
+    with pytest.raises(ParameterError, match="inclusions need an elastic matrix"):
+        fw.Simulation(grid=grid, material=materials.PMMA, indenter=ball, schedule=static, inclusions=body)
+    with pytest.raises(ParameterError, match="Static and Eccentric schedules"):
+        fw.Simulation(grid=grid, material=materials.Elastic(E, NU), indenter=ball, inclusions=body,
+                      schedule=schedules.Rolling(load=40.0, velocity=(1.0, 0.0), distance=0.1e-3))
+    shallow = [inclusions.Ellipsoid(center=(0, 0, 0.05e-3), semi_axes=(0.06e-3,) * 3,
+                                    material=materials.Elastic(3 * E, NU))]
+    with pytest.raises(ParameterError, match="cuts the surface"):
+        fw.Simulation(grid=grid, material=materials.Elastic(E, NU), indenter=ball, schedule=static, inclusions=shallow)

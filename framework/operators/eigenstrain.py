@@ -27,7 +27,11 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
+from ..grid import Grid
 from .stress import SubsurfaceStress
+
+#: The surface patch of the Boussinesq correction reaches this many box-bottom depths beyond the box.
+PATCH_DEPTHS = 4.0
 
 #: Index pairs of the six strain components, in Voigt order xx yy zz yz xz xy.
 COMPONENTS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
@@ -220,9 +224,9 @@ class HalfSpaceEigenstrain:
     The box is a block of the grid's cuboid lattice (surface cells times layers); the
     kernels span the box only, so memory and time follow the box, not the grid: about
     2 kB per cuboid of the box for the 21 + 21 kernel spectra of the infinite-space and
-    mirror terms, plus the surface-traction kernels (6 per layer of the box on the
-    grid's padded surface). The Boussinesq correction and the surface displacement use
-    the whole surface grid.
+    mirror terms, plus the surface-traction kernels (6 per layer of the box on a surface
+    patch reaching :data:`PATCH_DEPTHS` times the box's bottom depth around it, clipped to
+    the grid). The surface displacement (Betti) covers the whole grid.
 
     Parameters
     ----------
@@ -258,13 +262,25 @@ class HalfSpaceEigenstrain:
         mirror_faces = (2 * start[2] + np.arange(2 * shape[2]) + 0.5) * dz
         self._mirror = {key: fft.rfft3(_wrapped(value)) for key, value in
                         potential_kernels(faces[0], faces[1], mirror_faces).items()}
+        # The Boussinesq correction works on a surface patch around the box: the traction the
+        # eigenstrains leave decays like 1/r^3, and beyond PATCH_DEPTHS times the box's bottom depth
+        # its stress at the box is below ~1e-3 of the correction (which is itself small unless the
+        # box is shallow). The patch's cells are the grid's.
+        reach = [int(np.ceil(PATCH_DEPTHS * (start[2] + shape[2]) * self.spacing[2] / h)) for h in grid.spacing]
+        low = [max(0, start[a] - reach[a]) for a in range(2)]
+        high = [min(grid.shape[a], start[a] + shape[a] + reach[a]) for a in range(2)]
+        self.patch = tuple(slice(lo, hi) for lo, hi in zip(low, high))
+        self._patch_grid = Grid(shape=(high[0] - low[0], high[1] - low[1]),
+                                size=((high[0] - low[0]) * grid.spacing[0], (high[1] - low[1]) * grid.spacing[1]))
         self._traction = self._traction_spectra()
-        self._stress = SubsurfaceStress(grid, poisson)
-        self._footprint = (slice(start[0], start[0] + shape[0]), slice(start[1], start[1] + shape[1]))
+        self._stress = SubsurfaceStress(self._patch_grid, poisson)
+        self._surface_stress = None
+        self._footprint = (slice(start[0] - low[0], start[0] - low[0] + shape[0]),
+                           slice(start[1] - low[1], start[1] - low[1] + shape[1]))
 
     def _traction_spectra(self):
         """Spectra ``(m3, 6, 2 n1, n2 + 1)`` of ``s33`` at the surface (unit modulus) per layer and component."""
-        (n1, n2), m3, dz = self.grid.shape, self.shape[2], self.spacing[2]
+        (n1, n2), m3, dz = self._patch_grid.shape, self.shape[2], self.spacing[2]
         faces1 = (np.arange(-n1, n1) + 0.5) * self.spacing[0]
         faces2 = (np.arange(-n2, n2) + 0.5) * self.spacing[1]
         # Target on the surface, sources below: x3 - x3' runs from -(bottom) up to -(top of the box).
@@ -291,18 +307,18 @@ class HalfSpaceEigenstrain:
 
     def _embedded_layers(self, eigenstrain):
         """The box's eigenstrain per layer on the whole surface grid, ``(m3, 6, n1, n2)``."""
-        field = np.zeros((self.shape[2], 6, *self.grid.shape))
+        field = np.zeros((self.shape[2], 6, *self._patch_grid.shape))
         field[:, :, self._footprint[0], self._footprint[1]] = np.transpose(eigenstrain, (2, 3, 0, 1))
         return field
 
     def surface_traction(self, eigenstrain):
-        """Pressure ``2 s33(x1, x2, 0)`` [Pa per unit Young's modulus] over the surface grid.
+        """Pressure ``2 s33(x1, x2, 0)`` [Pa per unit Young's modulus] over the surface patch ``patch``.
 
         The normal stress that the eigenstrains and their mirror image leave on the
         surface, as the compressive pressure that the Boussinesq correction applies.
         """
         eigenstrain = self._check(eigenstrain)
-        n1, n2 = self.grid.shape
+        n1, n2 = self._patch_grid.shape
         convolution = self._stress._convolution
         total = 0.0
         for layer, field in enumerate(self._embedded_layers(eigenstrain)):
@@ -317,9 +333,16 @@ class HalfSpaceEigenstrain:
         """
         eigenstrain = self._check(eigenstrain)
         n1, n2 = self.grid.shape
+        if self._surface_stress is None:
+            self._surface_stress = SubsurfaceStress(self.grid, self.poisson)
         fields = np.zeros((n1, n2, self.shape[2], 6))
-        fields[self._footprint] = eigenstrain * CONTRACTION
-        return self.spacing[2] * self._stress.transpose(fields, self.depths)
+        fields[self.box[:2]] = eigenstrain * CONTRACTION
+        return self.spacing[2] * self._surface_stress.transpose(fields, self.depths)
+
+    @property
+    def box(self):
+        """Slices of the box in the grid's ``(n1, n2, layers)`` arrays."""
+        return tuple(slice(s, s + m) for s, m in zip(self.start, self.shape))
 
     def strain(self, eigenstrain):
         """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
@@ -350,14 +373,14 @@ class HalfSpaceEigenstrain:
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         loaded = np.nonzero(np.any(eigenstrain != 0.0, axis=-1))
         values = eigenstrain[loaded]
-        axes = (self.grid.x1[self._footprint[0]], self.grid.x2[self._footprint[1]], self.depths)
+        axes = (self.grid.x1[self.box[0]], self.grid.x2[self.box[1]], self.depths)
         centres = np.stack([axis[index] for axis, index in zip(axes, loaded)], axis=-1)
         half = 0.5 * np.asarray(self.spacing)
         mirrored = centres * [1, 1, -1]
         strain = (strain_at_points(points, centres, values, half, self.poisson)
                   + strain_at_points(points, mirrored, values * [1, 1, 1, -1, -1, 1], half, self.poisson))
         pressure = self.surface_traction(eigenstrain)
-        x1, x2 = self.grid.coordinates()
+        x1, x2 = (c[self.patch] for c in self.grid.coordinates())
         dx1, dx2 = self.grid.spacing
         stress = np.empty((len(points), 6))
         for i, (y1, y2, y3) in enumerate(points):

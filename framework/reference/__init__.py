@@ -13,6 +13,8 @@
   solved densely (filtered influence coefficients, exact active set).
 - :mod:`.eshelby`: Eshelby tensor and interior field of an ellipsoidal inhomogeneity, Mindlin &
   Cheng (1950) centre of dilatation, dilute change of an indenter's approach.
+- :mod:`.eigenstrain`: strain of a uniform eigenstrain in a cuboid in an infinite body (Kelvin) and
+  a half-space (Mindlin 1936), and the half-space's surface displacement, by face quadrature.
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
@@ -28,6 +30,8 @@ from .westergaard import Westergaard
 from .eshelby import (InteriorSolution, dilatation_strength, dilatation_surface_displacement, dilute_approach_change,
                       eshelby_integrals, eshelby_tensor, hertz_axis_stress, hertz_axis_stress_rate, interior_solution,
                       isotropic_stiffness)
+from .eigenstrain import (kelvin_cuboid_strain, kelvin_point_force_displacement, mindlin_cuboid_strain,
+                          mindlin_cuboid_surface_displacement, mindlin_point_force_displacement)
 
 __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "SteadyLineContact", "SteadySphereContact",
            "TingSolution", "Westergaard",
@@ -39,4 +43,6 @@ __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Ste
            "low_speed_friction_slope", "high_speed_sphere_friction",
            "InteriorSolution", "dilatation_strength", "dilatation_surface_displacement", "dilute_approach_change",
            "eshelby_integrals", "eshelby_tensor", "hertz_axis_stress", "hertz_axis_stress_rate", "interior_solution",
-           "isotropic_stiffness"]
+           "isotropic_stiffness",
+           "kelvin_cuboid_strain", "kelvin_point_force_displacement", "mindlin_cuboid_strain",
+           "mindlin_cuboid_surface_displacement", "mindlin_point_force_displacement"]
