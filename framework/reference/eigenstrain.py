@@ -328,9 +328,9 @@ def kelvin_cuboid_strain(points, *, center, half_sizes, eigenstrain, poisson, or
     ----------
     points : array_like, shape (n, 3)
         Field points [m], inside or outside the cuboid but not on its faces.
-        The quadrature reaches a relative error of about 1e-10 (``order=10``)
-        at points half a cuboid's half-size or more from the faces; closer,
-        it needs more panels but stays accurate.
+        With ``order=10`` the error is below 1e-11 of ``max |eps*|``
+        (measured against ``order=24`` and independent routes) down to
+        1e-3 half-sizes from a face; closer points cost more panels.
     center : array_like, shape (3,)
         Centre of the axis-aligned cuboid ``|x_i - c_i| <= h_i`` [m].
     half_sizes : array_like, shape (3,)
