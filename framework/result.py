@@ -327,9 +327,12 @@ class Result:
         indenter = self.indenter
         if isinstance(indenter, HeightMap) and callable(indenter.heights):
             indenter = HeightMap(indenter.on_grid(self.grid))  # a function cannot be stored: its values can
-        return {"framework_version": self.version, "grid": describe(self.grid), "material": describe(self.material),
-                "indenter": describe(indenter), "schedule": describe(self.schedule),
-                "options": describe(self.options)}
+        configuration = {"framework_version": self.version, "grid": describe(self.grid),
+                         "material": describe(self.material), "indenter": describe(indenter),
+                         "schedule": describe(self.schedule), "options": describe(self.options)}
+        if self.inclusions:  # left out without inhomogeneities: such files read as before
+            configuration["inclusions"] = describe(self.inclusions)
+        return configuration
 
     def save(self, path):
         """Write everything to the HDF5 file ``path`` (read back with :func:`framework.load_result`).
