@@ -43,14 +43,16 @@ def print_table(result, rows=12):
     """The per-step figures a user looks at first (first and last steps of long runs).
 
     The contact's size is its radius, or its half-width on a line contact; a
-    rolling run shows its friction coefficient where others show the tilt.
+    rolling run shows its friction coefficient where others show the tilt; a
+    run with inhomogeneities adds the coupling iterations of each step.
     """
+    coupled = bool(getattr(result, "inclusions", None))
     line = result.line_contact
     rolling = getattr(result.schedule, "velocity", None) is not None
     size, size_name = (result.half_width, "half-width m") if line else (result.contact_radius, "radius m")
     last, last_name = (result.friction_coefficient, "friction") if rolling else (result.tilt[:, 0], "tilt rad")
     print(f"{'step':>5} {'time s':>10} {'load N':>10} {'approach m':>12} {size_name:>12} {'p max Pa':>11} "
-          f"{last_name:>10} {'iter':>5}")
+          f"{last_name:>10} {'iter':>5}" + (f" {'coupl':>5}" if coupled else ""))
     steps = range(len(result))
     if len(result) > rows:
         steps = list(range(rows // 2)) + [None] + list(range(len(result) - rows // 2, len(result)))
@@ -59,7 +61,8 @@ def print_table(result, rows=12):
             print(f"{'...':>5}")
             continue
         print(f"{k:5d} {result.times[k]:10.4g} {result.load[k]:10.4g} {result.approach[k]:12.5g} "
-              f"{size[k]:12.4g} {result.max_pressure[k]:11.4g} {last[k]:10.3g} {result.iterations[k]:5d}")
+              f"{size[k]:12.4g} {result.max_pressure[k]:11.4g} {last[k]:10.3g} {result.iterations[k]:5d}"
+              + (f" {result.couplings[k]:5d}" if coupled else ""))
 
 
 def _viz():

@@ -1,14 +1,18 @@
 """Results on disk: HDF5 files that hold everything, and the checkpoints of long runs.
 
-Layout, ``format = 2`` (the file attribute ``format``, an integer raised at
+Layout, ``format = 3`` (the file attribute ``format``, an integer raised at
 every change of layout): file attributes ``framework_version``, ``format``,
 ``configuration`` (JSON of :meth:`Result.configuration`) and ``checksum``
 (CRC-32 of the UTF-8 text ``framework_version + "\\n" + configuration``);
 group ``series`` (one dataset per step series: ``index``, ``time``, ``load``,
 ``approach``, ``iterations``, ``residual``, ``success``, ``tilt``); group
 ``fields`` (``pressure``, ``displacement``, ``gap``, each ``(steps, n1, n2)``,
-one gzip chunk per step); and, in a checkpoint, group ``state`` (the time
-stepper's history and the next station; its attribute ``keys`` lists them).
+one gzip chunk per step); for a run with inhomogeneities also ``series/couplings``
+and ``fields/eigenstrain``, ``fields/inclusion_stress`` (each ``(steps, m1, m2,
+m3, 6)`` on the inhomogeneities' box, see :class:`~framework.result.StepRecord`)
+with the inhomogeneities in the configuration (key ``inclusions``); and, in a
+checkpoint, group ``state`` (the time stepper's history and the next station,
+and the last eigenstrains; its attribute ``keys`` lists them).
 
 Every dataset is chunked and carries HDF5's Fletcher-32 checksum filter,
 which HDF5 verifies at every read: a flipped byte in stored numbers, a
@@ -18,10 +22,13 @@ giving wrong numbers. A scalar (a stepper's time, the next station) is stored
 as a one-element dataset with the attribute ``scalar = 1``, as chunked
 datasets need a dimension.
 
+Format 2 is format 3 without the inhomogeneities' datasets (they were
+added with format 3, so that an older framework refuses a file whose
+inhomogeneities it would drop); it is read as such.
 Format 1 (files written before the checksums: the same groups and names,
 contiguous datasets without the filter, scalars stored as such, no
 ``checksum`` attribute) is still read, without the checks it has no data for.
-A format above 2 was written by a newer framework and is refused.
+A format above 3 was written by a newer framework and is refused.
 
 Arrays are stored as they are in memory: a round trip is exact to the bit.
 Files are written under the temporary name ``{path}.tmp{pid}`` and renamed,
@@ -40,10 +47,13 @@ import numpy as np
 
 from .errors import FrameworkError, ParameterError
 
-FORMAT = 2
-READABLE = (1, 2)
+FORMAT = 3
+READABLE = (1, 2, 3)
 SERIES = ("index", "time", "load", "approach", "iterations", "residual", "success", "tilt")
 FIELDS = ("pressure", "displacement", "gap")
+#: Written only for a run with inhomogeneities (all its records carry them).
+INCLUSION_SERIES = ("couplings",)
+INCLUSION_FIELDS = ("eigenstrain", "inclusion_stress")
 
 
 def _h5py():
@@ -190,6 +200,13 @@ def save(result, path, state=None, *, name="path"):
                 data = np.array([getattr(r, key) for r in records]) if records else np.zeros(shape)
                 _dataset(fields, key, data, compression="gzip", compression_opts=1, shuffle=True,
                          chunks=(1,) + shape[1:] if records else True)  # one chunk per step
+            if records and records[0].eigenstrain is not None:
+                for key in INCLUSION_SERIES:
+                    _dataset(series, key, np.array([getattr(r, key) for r in records]))
+                for key in INCLUSION_FIELDS:
+                    data = np.array([getattr(r, key) for r in records])
+                    _dataset(fields, key, data, compression="gzip", compression_opts=1, shuffle=True,
+                             chunks=(1,) + data.shape[1:])
             if state is not None:
                 group = f.create_group("state")
                 group.attrs["keys"] = list(state)
@@ -256,7 +273,7 @@ def read(path, *, name="path"):
             if reader.format not in READABLE:
                 newer = isinstance(reader.format, (int, np.integer)) and reader.format > FORMAT
                 raise ParameterError(f"{name}: {path!r} is not a result file of format "
-                                     f"{' or '.join(map(str, READABLE))}"
+                                     f"{', '.join(map(str, READABLE[:-1]))} or {READABLE[-1]}"
                                      + (f" (format {reader.format}: written by a newer framework)" if newer else ""))
             text = reader.attribute("configuration")
             if reader.format >= 2 and _checksum(reader.attribute("framework_version"), text) \
@@ -265,6 +282,9 @@ def read(path, *, name="path"):
             configuration = json.loads(text)
             series = {key: reader.dataset(f"series/{key}") for key in SERIES}
             fields = {key: reader.dataset(f"fields/{key}") for key in FIELDS}
+            if reader.format >= 3 and "fields/eigenstrain" in f:  # a run with inhomogeneities
+                series.update({key: reader.dataset(f"series/{key}") for key in INCLUSION_SERIES})
+                fields.update({key: reader.dataset(f"fields/{key}") for key in INCLUSION_FIELDS})
             state = None
             if "state" in f:
                 keys = reader.attribute("keys", "state") if reader.format >= 2 else list(f["state"])
@@ -279,7 +299,10 @@ def read(path, *, name="path"):
                           approach=series["approach"][k], pressure=fields["pressure"][k],
                           displacement=fields["displacement"][k], gap=fields["gap"][k],
                           iterations=int(series["iterations"][k]), residual=series["residual"][k],
-                          success=bool(series["success"][k]), tilt=tuple(series["tilt"][k]))
+                          success=bool(series["success"][k]), tilt=tuple(series["tilt"][k]),
+                          **({} if "eigenstrain" not in fields else dict(
+                              eigenstrain=fields["eigenstrain"][k], inclusion_stress=fields["inclusion_stress"][k],
+                              couplings=int(series["couplings"][k]))))
                for k in range(steps)]
     return configuration, records, state
 
@@ -295,7 +318,9 @@ def load_result(path):
         raise ParameterError(f"path: {os.fspath(path)!r} is damaged: its configuration has no {missing}")
     parts = {key: build(configuration[key], name=key) for key in ("grid", "material", "indenter", "schedule")}
     options = build(configuration["options"], name="options") if configuration.get("options") else Options()
-    result = Result(parts["grid"], parts["material"], parts["indenter"], parts["schedule"], options)
+    inclusions = build(configuration["inclusions"], name="inclusions") if configuration.get("inclusions") else None
+    result = Result(parts["grid"], parts["material"], parts["indenter"], parts["schedule"], options,
+                    inclusions=inclusions)
     result.version = configuration.get("framework_version", result.version)
     for record in records:
         result.append(record)

@@ -47,7 +47,9 @@ class Result:
     ``center`` (n, 2) load centre [m], ``tilt`` (n, 2) [rad],
     ``friction_coefficient`` [-], ``torque`` [N m], ``dissipated_power`` [W]
     and ``position`` (n, 2) [m] of a rolling body (zero without motion),
-    ``iterations`` and ``residual`` of each solve.
+    ``iterations`` and ``residual`` of each solve, ``couplings`` the
+    fixed-point iterations between the contact and the inhomogeneities (0
+    without them).
     Fields: :meth:`pressure`, :meth:`displacement`, :meth:`gap` on the surface;
     :meth:`stress`, :meth:`von_mises`, :meth:`stress_at` below it. With a
     constant Poisson ratio the stresses depend on the current pressure only,
@@ -101,6 +103,7 @@ class Result:
     load = property(lambda self: self._series("load"))
     approach = property(lambda self: self._series("approach"))
     iterations = property(lambda self: self._series("iterations").astype(int))
+    couplings = property(lambda self: self._series("couplings").astype(int))
     residual = property(lambda self: self._series("residual"))
     tilt = property(lambda self: np.array([r.tilt for r in self.records], dtype=float).reshape(-1, 2))
 
@@ -327,9 +330,12 @@ class Result:
         indenter = self.indenter
         if isinstance(indenter, HeightMap) and callable(indenter.heights):
             indenter = HeightMap(indenter.on_grid(self.grid))  # a function cannot be stored: its values can
-        return {"framework_version": self.version, "grid": describe(self.grid), "material": describe(self.material),
-                "indenter": describe(indenter), "schedule": describe(self.schedule),
-                "options": describe(self.options)}
+        configuration = {"framework_version": self.version, "grid": describe(self.grid),
+                         "material": describe(self.material), "indenter": describe(indenter),
+                         "schedule": describe(self.schedule), "options": describe(self.options)}
+        if self.inclusions:  # left out without inhomogeneities: such files read as before
+            configuration["inclusions"] = describe(self.inclusions)
+        return configuration
 
     def save(self, path):
         """Write everything to the HDF5 file ``path`` (read back with :func:`framework.load_result`).

@@ -1,7 +1,9 @@
 """Scenario files (TOML): every public object, checked before anything runs.
 
 A scenario has the tables ``[grid]``, ``[material]``, ``[indenter]``,
-``[schedule]`` and optionally ``[options]`` and ``[output]``. Objects are
+``[schedule]`` and optionally ``[options]``, ``[output]`` and any number of
+``[[inclusions]]`` (elastic ellipsoidal inhomogeneities, see
+:func:`inclusions_from_tables`). Objects are
 written as ``type = "ClassName"`` plus their keyword arguments (the same form
 as :func:`framework.config.describe`); a material may instead name a preset
 (``preset = "PMMA"``). Times are a list or a range table
@@ -27,6 +29,8 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 TABLES = {"grid", "material", "indenter", "schedule", "options", "output"}
+ARRAYS = {"inclusions"}   # arrays of tables, [[inclusions]]
+INCLUSION_KEYS = {"type", "center", "semi_axes", "material", "orientation", "euler", "convention"}
 REQUIRED = ("grid", "material", "indenter", "schedule")
 PRESETS = {"PMMA": lambda: materials.PMMA}
 OUTPUT_KEYS = {"vtu", "steps", "volume_steps", "single", "pictures", "history"}
@@ -127,6 +131,80 @@ def _material(table):
     return build(table, name="material")
 
 
+def _inclusion_material(table, name):
+    """``{young, poisson}``, ``{stiffness = 6x6}`` or a described material (``type = ...``)."""
+    if not isinstance(table, dict):
+        raise ParameterError(f"{name}: expected a table {{young, poisson}} or {{stiffness}}, got {table!r}")
+    if "type" in table:
+        return build(table, name=name)
+    keys = {"stiffness"} if "stiffness" in table else {"young", "poisson"}
+    unknown, missing = set(table) - keys, sorted(keys - set(table))
+    if unknown or missing:
+        raise ParameterError(f"{name}: expected the keys young and poisson (isotropic) or stiffness (a 6x6 Voigt "
+                             f"matrix [Pa]), got {sorted(table)}")
+    return build(dict(table, type="AnisotropicElastic" if keys == {"stiffness"} else "Elastic"), name=name)
+
+
+def inclusions_from_tables(tables):
+    """The ellipsoids of the ``[[inclusions]]`` tables of a scenario.
+
+    Each table holds ``center = [x1, x2, x3]`` and ``semi_axes = [a1, a2, a3]``
+    [m] (``x3 > 0`` the depth), ``material = {young, poisson}`` or ``{stiffness
+    = 6x6}`` (Voigt, [Pa], in the ellipsoid's own frame), and optionally its
+    orientation: ``orientation``, the 3x3 matrix whose columns are the
+    semi-axes' directions, or ``euler = [phi, theta, psi]`` in DEGREES, intrinsic
+    rotations about the axes of ``convention`` (default ``"zxz"``: ``R = Rz(phi)
+    Rx(theta) Rz(psi)``, see :func:`framework.inclusions.euler_orientation`).
+
+    Parameters
+    ----------
+    tables : list of dict
+        The parsed TOML array of tables.
+
+    Returns
+    -------
+    list of framework.inclusions.Ellipsoid
+        Mistakes raise :class:`ParameterError` naming ``inclusions[i].key``.
+    """
+    from .inclusions import Ellipsoid, euler_orientation
+    if not isinstance(tables, list) or not all(isinstance(table, dict) for table in tables):
+        raise ParameterError(f"inclusions: expected an array of tables ([[inclusions]] blocks), got {tables!r}")
+    bodies = []
+    for i, table in enumerate(tables):
+        name = f"inclusions[{i}]"
+        unknown = set(table) - INCLUSION_KEYS
+        if unknown:
+            raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)}; expected some of {sorted(INCLUSION_KEYS)}")
+        if table.get("type", "Ellipsoid") != "Ellipsoid":
+            raise ParameterError(f"{name}.type: expected 'Ellipsoid' (the only shape), got {table['type']!r}")
+        missing = [key for key in ("center", "semi_axes", "material") if key not in table]
+        if missing:
+            raise ParameterError(f"{name}: missing required key(s) {missing}")
+        if "orientation" in table and "euler" in table:
+            raise ParameterError(f"{name}: give orientation (a 3x3 matrix) or euler (angles in degrees), not both")
+        if "convention" in table and "euler" not in table:
+            raise ParameterError(f"{name}.convention: names the axes of euler angles; give euler = [phi, theta, psi] "
+                                 f"in degrees too")
+        orientation = table.get("orientation")
+        if "euler" in table:
+            angles = table["euler"]
+            if not (isinstance(angles, list) and len(angles) == 3
+                    and all(isinstance(a, (int, float)) and not isinstance(a, bool) for a in angles)):
+                raise ParameterError(f"{name}.euler: expected three angles [phi, theta, psi] in degrees, "
+                                     f"got {angles!r}")
+            try:
+                orientation = euler_orientation(*np.radians(angles), convention=table.get("convention", "zxz"))
+            except ParameterError as exc:
+                raise ParameterError(f"{name}.euler: {exc}") from exc
+        material = _inclusion_material(table["material"], f"{name}.material")
+        try:
+            bodies.append(Ellipsoid(center=table["center"], semi_axes=table["semi_axes"], material=material,
+                                    orientation=orientation))
+        except FrameworkError as exc:  # the message names the key: center, semi_axes[1], orientation...
+            raise ParameterError(f"{name}: {exc}") from exc
+    return bodies
+
+
 def _output(table):
     unknown = set(table) - OUTPUT_KEYS
     if unknown:
@@ -177,9 +255,9 @@ def parse(data, source="<scenario>"):
     """A :class:`Scenario` from the parsed TOML tables ``data``."""
     from .simulation import Options, Simulation
     try:
-        unknown = set(data) - TABLES
+        unknown = set(data) - TABLES - ARRAYS
         if unknown:
-            raise ParameterError(f"unknown table(s) {sorted(unknown)}; expected some of {sorted(TABLES)}")
+            raise ParameterError(f"unknown table(s) {sorted(unknown)}; expected some of {sorted(TABLES | ARRAYS)}")
         for key in REQUIRED:
             if key not in data:
                 raise ParameterError(f"missing required table [{key}]")
@@ -211,8 +289,9 @@ def parse(data, source="<scenario>"):
         except ParameterError as exc:
             raise ParameterError(f"options: {exc}") from exc
         output = _output(data.get("output", {}))
+        bodies = inclusions_from_tables(data["inclusions"]) if "inclusions" in data else None
         simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
-                                options=options)
+                                inclusions=bodies, options=options)
         total = len(simulation.output_times)
         for key in ("steps", "volume_steps"):
             steps = getattr(output, key)

@@ -494,8 +494,8 @@ class Simulation:
         configuration, records, state = io.read(path, name="resume")
         path = os.fspath(path)
         mine = result.configuration()
-        differing = sorted(key for key in mine if key != "framework_version"
-                           and json.dumps(mine[key]) != json.dumps(configuration.get(key)))
+        differing = sorted(key for key in set(mine) | set(configuration) if key != "framework_version"
+                           and json.dumps(mine.get(key)) != json.dumps(configuration.get(key)))
         if differing:
             raise ParameterError(f"resume: the checkpoint {path!r} was written for another configuration "
                                  f"({', '.join(differing)} differ); run it with its own scenario or start afresh")

@@ -53,12 +53,12 @@ def test_not_a_result_file(tmp_path):
     h5py = pytest.importorskip("h5py")
     with h5py.File(tmp_path / "other.h5", "w") as f:
         f["x"] = np.arange(3.0)
-    with pytest.raises(errors.ParameterError, match=r"'.*other.h5' is not a result file of format 1 or 2"):
+    with pytest.raises(errors.ParameterError, match=r"'.*other.h5' is not a result file of format 1, 2 or 3"):
         fw.load_result(tmp_path / "other.h5")
     with h5py.File(tmp_path / "other.h5", "a") as f:
-        f.attrs["format"] = 3
+        f.attrs["format"] = 4
         f.create_group("series")
-    with pytest.raises(errors.ParameterError, match=r"format 1 or 2 \(format 3: written by a newer framework\)"):
+    with pytest.raises(errors.ParameterError, match=r"format 1, 2 or 3 \(format 4: written by a newer framework\)"):
         fw.load_result(tmp_path / "other.h5")
 
 
@@ -222,7 +222,7 @@ def test_every_dataset_is_chunked_with_a_checksum(checkpoint):
     with h5py.File(checkpoint, "r") as f:
         f.visititems(lambda name, item: datasets.append((name, item.chunks, item.fletcher32))
                      if isinstance(item, h5py.Dataset) else None)
-        assert f.attrs["format"] == 2
+        assert f.attrs["format"] == io.FORMAT
     assert len(datasets) == len(io.SERIES) + len(io.FIELDS) + 6  # state: time, pressure, fields, integral, ...
     assert [name for name, chunks, checked in datasets if not chunks or not checked] == []
 

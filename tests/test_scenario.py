@@ -4,6 +4,7 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from framework import scenario
@@ -319,3 +320,97 @@ def test_a_steady_rolling_line_contact_runs_from_the_cli(tmp_path):
     assert header[column["dissipated_power"]] == "dissipated_power [W]"
     assert all(float(row[column["friction_coefficient"]]) > 0 for row in rows)
     assert all(float(row[column["half_width"]]) > 0 for row in rows)
+
+
+# --------------------------------------------------------------------------- inhomogeneities, [[inclusions]]
+
+LAYERED = GOOD.replace("shape = [16, 16]", "shape = [24, 24]\ndepth = 0.5e-3\nlayers = 16").replace(
+    "young = 1e9", "young = 200e9").replace("load = 1.0", "load = 20.0")
+INCLUSION = """
+[[inclusions]]
+center = [0.0, 0.0, 0.22e-3]
+semi_axes = [0.15e-3, 0.13e-3, 0.13e-3]
+material = { young = 600e9, poisson = 0.25 }
+"""
+
+
+def test_inclusion_tables_become_ellipsoids(tmp_path):
+    from framework import inclusions, materials
+    path = tmp_path / "good.toml"
+    stiffness = [[250e9, 150e9, 150e9, 0, 0, 0], [150e9, 250e9, 150e9, 0, 0, 0], [150e9, 150e9, 250e9, 0, 0, 0],
+                 [0, 0, 0, 120e9, 0, 0], [0, 0, 0, 0, 120e9, 0], [0, 0, 0, 0, 0, 120e9]]
+    path.write_text(LAYERED + INCLUSION.replace("]\nmaterial", "]\neuler = [90.0, 0.0, 0.0]\nmaterial")
+                    + INCLUSION.replace("0.0, 0.0, 0.22e-3", "0.0, 0.3e-3, 0.3e-3")
+                    .replace("{ young = 600e9, poisson = 0.25 }", f"{{ stiffness = {stiffness} }}")
+                    + "orientation = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]\n")
+    first, second = scenario.read(str(path)).simulation.inclusions
+    # z-x-z angles (90, 0, 0) in degrees: a quarter turn about x3, a1 along x2 and a2 along -x1
+    np.testing.assert_allclose(first.orientation, [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-15)
+    assert first.material == materials.Elastic(600e9, 0.25) and first.center == (0.0, 0.0, 0.22e-3)
+    assert second.material == materials.AnisotropicElastic(np.array(stiffness, dtype=float))
+    assert np.array_equal(second.orientation, [[1, 0, 0], [0, 0, -1], [0, 1, 0]])
+    assert second.semi_axes == (0.15e-3, 0.13e-3, 0.13e-3)
+    # the convention names the axes: (90, 0, 0) about x2 first turns a1 to -x3
+    path.write_text(LAYERED + INCLUSION + 'euler = [90.0, 0.0, 0.0]\nconvention = "yxy"\n')
+    body, = scenario.read(str(path)).simulation.inclusions
+    np.testing.assert_allclose(body.orientation[:, 0], [0, 0, -1], atol=1e-15)
+    assert isinstance(body, inclusions.Ellipsoid)
+
+
+@pytest.mark.parametrize("text, message", [
+    (INCLUSION.replace("semi_axes", "semiaxes"),
+     r"inclusions\[0\]: unknown key\(s\) \['semiaxes'\]; expected some of \['center', 'convention', 'euler'"),
+    (INCLUSION.replace("center = [0.0, 0.0, 0.22e-3]\n", ""),
+     r"inclusions\[0\]: missing required key\(s\) \['center'\]"),
+    (INCLUSION + INCLUSION.replace("0.22e-3]", "-0.1e-3]"),
+     r"inclusions\[1\]: center\[2\] \(the depth of the centre\) must be positive \[m\], got -0.0001"),
+    (INCLUSION.replace("0.13e-3, 0.13e-3]", "0.13e-3]"),
+     r"inclusions\[0\]: semi_axes has shape \(2,\), expected \(3,\)"),
+    (INCLUSION.replace("{ young = 600e9, poisson = 0.25 }", "{ young = 600e9 }"),
+     r"inclusions\[0\].material: expected the keys young and poisson \(isotropic\) or stiffness"),
+    (INCLUSION.replace("{ young = 600e9, poisson = 0.25 }", "'steel'"),
+     r"inclusions\[0\].material: expected a table \{young, poisson\} or \{stiffness\}, got 'steel'"),
+    (INCLUSION.replace("poisson = 0.25", "poisson = 0.7"), r"inclusions\[0\].material: poisson must lie in"),
+    (INCLUSION.replace("{ young = 600e9, poisson = 0.25 }", "{ stiffness = [[1e9, 0], [0, 1e9]] }"),
+     r"inclusions\[0\].material: stiffness must be a 6x6 Voigt matrix \[Pa\], got shape \(2, 2\)"),
+    (INCLUSION + "euler = [30.0, 0.0]\n",
+     r"inclusions\[0\].euler: expected three angles \[phi, theta, psi\] in degrees, got \[30.0, 0.0\]"),
+    (INCLUSION + "euler = [30.0, 0.0, 0.0]\nconvention = 'zzx'\n", r"inclusions\[0\].euler: convention must be three"),
+    (INCLUSION + "convention = 'zxz'\n", r"inclusions\[0\].convention: names the axes of euler angles"),
+    (INCLUSION + "euler = [30.0, 0.0, 0.0]\norientation = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n",
+     r"inclusions\[0\]: give orientation \(a 3x3 matrix\) or euler \(angles in degrees\), not both"),
+    (INCLUSION + "orientation = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]\n",
+     r"inclusions\[0\]: orientation must be a proper rotation \(det = \+1\)"),
+    (INCLUSION + "orientation = [[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n",
+     r"inclusions\[0\]: orientation must be a rotation matrix"),
+    (INCLUSION + "type = 'Cuboid'\n", r"inclusions\[0\].type: expected 'Ellipsoid' \(the only shape\), got 'Cuboid'"),
+    (INCLUSION + INCLUSION.replace("0.0, 0.0, 0.22e-3", "0.1e-3, 0.0, 0.25e-3"),
+     r"inclusions\[0\] and inclusions\[1\] overlap or touch"),
+    (INCLUSION.replace("0.22e-3]", "0.1e-3]"), r"inclusions\[0\] cuts the surface"),
+    (INCLUSION.replace("0.15e-3, 0.13e-3, 0.13e-3", "0.15e-3, 0.05e-3, 0.13e-3"),
+     r"inclusions\[0\]: semi_axes\[1\] = 5e-05 m spans only 1.2 cuboids"),
+    ("[inclusions]\ncenter = [0.0, 0.0, 0.22e-3]\n", r"inclusions: expected an array of tables \(\[\[inclusions\]\] "),
+])
+def test_bad_inclusion_tables_are_named(capsys, tmp_path, text, message):
+    refused(capsys, tmp_path, LAYERED + text, r"bad.toml: " + message)
+
+
+def test_inclusions_need_an_elastic_matrix(capsys, tmp_path):
+    text = LAYERED.replace('type = "Elastic"\nyoung = 200e9\npoisson = 0.3', 'preset = "PMMA"') + INCLUSION
+    refused(capsys, tmp_path, text, r"bad.toml: inclusions need an elastic matrix")
+
+
+def test_run_with_inclusions_shows_the_couplings(capsys, tmp_path):
+    path = tmp_path / "good.toml"
+    path.write_text(LAYERED.replace("load = 20.0", "load = [10.0, 20.0]") + INCLUSION
+                    + "[output]\nvtu = false\nhistory = []\n")
+    code, out, err = main_in_process(capsys, "check", str(path))
+    assert code == 0 and "ok (2 steps" in out, err
+    code, out, err = main_in_process(capsys, "run", str(path), "--out", str(tmp_path / "out"), "--quiet")
+    assert code == 0, err
+    header, *rows = out.splitlines()[:3]
+    assert header.split()[-2:] == ["iter", "coupl"]
+    from framework import load_result
+    result = load_result(tmp_path / "out" / "result.h5")
+    assert [int(row.split()[-1]) for row in rows] == list(result.couplings) and min(result.couplings) > 1
+    assert len(result.inclusions) == 1 and np.abs(result.eigenstrain(-1)).max() > 0

@@ -430,3 +430,85 @@ def test_history_plot_uses_readable_units(result, tmp_path):
     assert not any("10^" in t or "\u00d710" in t or "e-" in t for t in texts), texts
     centre_ticks = [t for t in texts if t.lstrip("\u2212-").replace(".", "").isdigit()]
     assert any(t.startswith(("\u2212", "-")) and float(t.lstrip("\u2212-")) >= 5 for t in centre_ticks)
+
+
+# --------------------------------------------------------------------------- inhomogeneities
+
+@pytest.fixture(scope="module")
+def inhomogeneous():
+    """A stiff ellipsoid turned about x3 and x1 (shear eigenstrains) under a ball, 24 x 24 cells x 16 layers."""
+    from framework import inclusions
+    body = inclusions.Ellipsoid(center=(0.0, 0.0, 0.22e-3), semi_axes=(0.15e-3, 0.13e-3, 0.13e-3),
+                                material=materials.Elastic(600e9, 0.25),
+                                orientation=inclusions.euler_orientation(0.5, 0.4, 0.0))
+    sim = Simulation(grid=Grid(shape=(24, 24), size=(1e-3, 1e-3), depth=0.5e-3, layers=16),
+                     material=materials.Elastic(200e9, 0.3), indenter=indenters.Sphere(radius=10e-3),
+                     schedule=schedules.Static(load=[50.0]), inclusions=[body])
+    return sim.run()
+
+
+def test_eigenstrain_is_exported_in_vtk_tensor_order(inhomogeneous, result, exported, tmp_path):
+    grid = inhomogeneous.grid
+    n1, n2, n3 = grid.shape + (grid.layers,)
+    export(inhomogeneous, tmp_path)
+    volume = pv.read(tmp_path / "volume_0000.vtu")
+    eigenstrain, indicator = inhomogeneous.eigenstrain(0), inhomogeneous.inhomogeneity(0)
+    i, j, k = np.unravel_index(np.argmax(np.abs(eigenstrain[..., 3])), eigenstrain.shape[:3])  # largest e23
+    e11, e22, e33, e23, e13, e12 = eigenstrain[i, j, k]
+    assert indicator[i, j, k] == 1 and min(abs(e23), abs(e13), abs(e12)) > 0
+    cell = i + n1 * (j + n2 * k)  # the documented cell numbering, x1 fastest, layers from the top
+    # XX YY ZZ XY YZ XZ in the frame z = -x3: the shears with one index 3 change sign
+    np.testing.assert_array_equal(volume.cell_data["eigenstrain"][cell], [e11, e22, e33, e12, -e23, -e13])
+    assert volume.cell_data["inhomogeneity"][cell] == 1
+    assert volume.cell_data["inhomogeneity"].sum() == np.count_nonzero(indicator)
+    np.testing.assert_array_equal(volume.cell_data["stress_xx"][cell], inhomogeneous.stress(0)[i, j, k, 0])
+    # a run without inhomogeneities has neither array, nor an inclusions.vtp
+    _, folder = exported
+    assert "eigenstrain" not in pv.read(os.path.join(folder, f"volume_{STEP:04d}.vtu")).cell_data
+    assert "inhomogeneity" not in meshes.volume_mesh(result, 0).cell_data
+    assert not os.path.exists(os.path.join(folder, "inclusions.vtp"))
+
+
+def test_inhomogeneity_surface_encloses_the_ellipsoid(inhomogeneous, tmp_path):
+    from vtkmodules.vtkFiltersCore import vtkMassProperties
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    exporter = export(inhomogeneous, tmp_path)
+    path = os.path.join(tmp_path, "inclusions.vtp")
+    assert path in exporter.files
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    surface = pv.wrap(reader.GetOutput())
+    assert surface.is_all_triangles and surface.n_open_edges == 0
+    assert json.loads(meshes.decode_text(surface.field_data["configuration"])) == inhomogeneous.configuration()
+    body = inhomogeneous.inclusions[0]
+    a1, a2, a3 = body.semi_axes
+    exact = 4.0 / 3.0 * np.pi * a1 * a2 * a3
+    mass = vtkMassProperties()
+    mass.SetInputData(surface)
+    mass.Update()
+    # an inscribed polyhedron of 48 meridians and 24 parallels: a little smaller, by about (pi/24)^2 / 2
+    assert 0.99 * exact < mass.GetVolume() < exact
+    # every vertex on the ellipsoid (x - c)^T R diag(a^-2) R^T (x - c) = 1, with x3 = -z
+    local = (np.asarray(surface.points) * [1, 1, -1] - body.center) @ body.orientation / body.semi_axes
+    np.testing.assert_allclose(np.linalg.norm(local, axis=1), 1.0, rtol=1e-12)
+    # normals point out of it
+    normals = surface.compute_normals(cell_normals=True, point_normals=False, auto_orient_normals=False)
+    outward = normals.cell_centers().points - np.multiply(body.center, [1, 1, -1])
+    assert np.all(np.einsum("ij,ij->i", normals.cell_data["Normals"], outward) > 0)
+    assert set(surface.cell_data["inhomogeneity"]) == {1} and surface.cell_data["young"][0] == 600e9
+
+
+@pytest.mark.parametrize("clip", [False, True])
+def test_slices_outline_the_inhomogeneities(inhomogeneous, tmp_path, clip):
+    """The same slice with and without the bodies: the pixels that differ hold the black outline."""
+    import copy
+    plain = copy.copy(inhomogeneous)
+    plain.inclusions = None
+    with_bodies = render(inhomogeneous, tmp_path / "with.png", "von_mises", 0, kind="slice", clip=clip)
+    without = render(plain, tmp_path / "without.png", "von_mises", 0, kind="slice", clip=clip, clim=with_bodies.clim)
+    image, _ = _colours(with_bodies.path)
+    other, _ = _colours(without.path)
+    changed = np.any(np.abs(image - other) > 0.1, axis=-1)
+    assert changed.sum() > 500
+    assert np.count_nonzero(image[changed].max(axis=-1) < 0.15) > 200   # black curve pixels

@@ -9,7 +9,8 @@ when a function needs them (``pip install 'viscocontact[viz]'``).
   vector ``displacement_vector`` for Warp By Vector), ``volume_NNNN.vtu``
   (subsurface stresses, hexahedra) and ``indenter_NNNN.vtu``, with
   ``surface.pvd``, ``volume.pvd`` and ``indenter.pvd`` time collections in
-  physical time; :class:`Exporter` streams step by step.
+  physical time, and for a run with inhomogeneities ``inclusions.vtp`` (their
+  surfaces); :class:`Exporter` streams step by step.
 * :func:`render` (:mod:`viz.render`): off-screen PNG pictures of one step, a
   pressure map, the deformed surface in 3-D or a subsurface stress slice.
 * :func:`plot_history` (:mod:`viz.plot`): per-step series against time, load

@@ -6,6 +6,7 @@ Layout of the output folder (``NNNN`` is the step index, zero padded to 4 digits
     volume.pvd    volume_NNNN.vtu     subsurface stresses, hexahedra (only with layers)
     indenter.pvd  indenter_NNNN.vtu   the indenter's surface at its position, quads
     configuration.json                result.configuration() with the framework version
+    inclusions.vtp                    the inhomogeneities' surfaces, triangles (only for a run with them)
 
 Open a ``.pvd`` in ParaView: its time steps carry the PHYSICAL time [s] of each
 step. The z axis points up, the solid occupies ``z <= 0`` (see
@@ -23,7 +24,12 @@ Every VTU file carries the field data ``framework_version`` and
 ``configuration`` (JSON of ``result.configuration()``), both UTF-8 text stored
 as uint8 arrays because meshio cannot read VTK string arrays (decode with
 :func:`viz.meshes.decode_text`), plus ``time`` [s], ``TimeValue`` [s] and
-``step``. Files are binary (raw appended data, zlib compressed, float64) and
+``step``. ``inclusions.vtp`` (polygonal data, the same for every step: the
+inhomogeneities do not move) carries ``framework_version`` and
+``configuration`` only, and the cell data ``inhomogeneity`` (``k + 1`` on
+the ``k``-th, as in the volume files), ``young`` and ``poisson`` (see
+:func:`viz.meshes.inclusion_mesh`); open it beside ``volume.pvd``.
+Files are binary (raw appended data, zlib compressed, float64) and
 readable by ParaView, pyvista/VTK and meshio.
 
 Each file is written under a temporary name in the same folder and moved into
@@ -73,10 +79,11 @@ def _replacing(path):
 
 
 def _write_vtu(mesh, path, compress=True):
-    """Write ``mesh`` (a vtkUnstructuredGrid) to ``path`` atomically."""
+    """Write ``mesh`` (a vtkUnstructuredGrid, or a vtkPolyData to a ``.vtp``) to ``path`` atomically."""
     vtk_io = _deps.require("vtkmodules.vtkIOXML")
     with _replacing(path) as tmp:
-        writer = vtk_io.vtkXMLUnstructuredGridWriter()
+        polygons = path.endswith(".vtp")
+        writer = vtk_io.vtkXMLPolyDataWriter() if polygons else vtk_io.vtkXMLUnstructuredGridWriter()
         writer.SetFileName(tmp)
         writer.SetInputData(mesh)
         writer.SetDataModeToAppended()
@@ -214,6 +221,13 @@ class Exporter:
             path = os.path.join(self.folder, "configuration.json")
             _write_text(json.dumps(json.loads(self._configuration), indent=2) + "\n", path)
             self._remember(path)
+            if getattr(result, "inclusions", None):
+                mesh = meshes.inclusion_mesh(result.inclusions)
+                mesh.field_data["framework_version"] = meshes.encode_text(str(result.version))
+                mesh.field_data["configuration"] = meshes.encode_text(self._configuration)
+                path = os.path.join(self.folder, "inclusions.vtp")
+                _write_vtu(mesh, path, self.compress)
+                self._remember(path)
         written = []
         builders = []
         if self._enabled["surface"]:

@@ -368,13 +368,15 @@ def volume_mesh(result, step, stress=None):
     * ``von_mises`` [Pa]; ``tresca`` [Pa], the largest principal difference;
     * ``principal_stress`` [Pa], 3 components sorted descending.
 
-    Reserved names, written when the result provides them (methods
-    ``eigenstrain(step)`` -> ``(n1, n2, layers, 6)`` strains in the
-    framework's Voigt order with tensor shears ``eps_23`` (not engineering
-    shears ``2 eps_23``: ParaView reads a tensor), and
-    ``inhomogeneity(step)`` -> ``(n1, n2, layers)`` integer indicator, 0 in
-    the matrix): ``eigenstrain`` (6 tensor components, converted like the
-    stress: same frame and VTK order as ``stress``) and ``inhomogeneity`` (int32).
+    For a run with inhomogeneities (``result.inclusions`` not empty), from
+    ``result.eigenstrain(step)`` (``(n1, n2, layers, 6)`` strains in the
+    framework's Voigt order with tensor shears ``eps_23``, not engineering
+    shears ``2 eps_23``: ParaView reads a tensor) and
+    ``result.inhomogeneity(step)`` (0 in the matrix, ``k + 1`` in the
+    ``k``-th inhomogeneity): ``eigenstrain`` (6 tensor components, converted
+    like the stress: same frame and VTK order as ``stress``) and
+    ``inhomogeneity`` (int32). The ``stress`` there includes the
+    eigenstrains' field (:meth:`framework.Result.stress`).
 
     Parameters
     ----------
@@ -399,9 +401,8 @@ def volume_mesh(result, step, stress=None):
     mesh.cell_data["stress"] = np.ascontiguousarray(tensor)
     for name, value in stress_measures(voigt).items():
         mesh.cell_data[name] = value
-    if callable(getattr(result, "eigenstrain", None)):
+    if getattr(result, "inclusions", None):
         mesh.cell_data["eigenstrain"] = vtk_tensor(_cell_order(np.asarray(result.eigenstrain(k), dtype=float), 3))
-    if callable(getattr(result, "inhomogeneity", None)):
         mesh.cell_data["inhomogeneity"] = _cell_order(np.asarray(result.inhomogeneity(k)).astype(np.int32), 3)
     mesh.set_active_scalars("von_mises", preference="cell")
     return mesh
@@ -441,4 +442,62 @@ def indenter_mesh(result, step):
     rigid = float(result.approach[k]) + slope1 * corners1[:, None] + slope2 * corners2[None, :]
     mesh = quad_mesh(grid, corner_average(heights, grid.periodic) - rigid)
     mesh.cell_data["height"] = cell_order(heights)
+    return mesh
+
+
+def inclusion_mesh(inclusions, resolution=48):
+    """The surfaces of ellipsoidal inhomogeneities, triangulated, in the exported frame (z up).
+
+    Each ellipsoid is the image of a unit sphere triangulated by latitude and
+    longitude (``resolution`` meridians, ``resolution // 2`` parallels, poles
+    included) under ``x = c + R diag(a) p``, then ``z = -x3``; every vertex
+    lies on the ellipsoid (to rounding), so the polyhedron is inscribed and
+    its volume falls short of ``4/3 pi a1 a2 a3`` by a relative ``O(resolution^-2)``
+    (0.75 % at 48). Triangles are counter-clockwise seen from outside (normals
+    point out of the inhomogeneity). The inhomogeneities are material points:
+    the same in the material frame at every step (their runs do not roll).
+
+    Cell data: ``inhomogeneity`` (int32), ``k + 1`` on the ``k``-th ellipsoid
+    (the indicator of :func:`volume_mesh`); ``young`` [Pa] and ``poisson``
+    of an isotropic inhomogeneity (NaN for an anisotropic one).
+
+    Parameters
+    ----------
+    inclusions : sequence of framework.inclusions.Ellipsoid
+        The inhomogeneities (``result.inclusions``).
+    resolution : int
+        Meridians per ellipsoid (>= 8).
+
+    Returns
+    -------
+    pyvista.PolyData
+        Triangles, the ellipsoids one after another.
+    """
+    pv = _deps.pyvista()
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 8:
+        raise ParameterError(f"resolution must be an integer >= 8 (meridians per ellipsoid), got {resolution!r}")
+    sphere = pv.Sphere(radius=1.0, theta_resolution=int(resolution), phi_resolution=int(resolution) // 2)
+    sphere = sphere.triangulate()
+    unit = np.asarray(sphere.points, dtype=float)
+    unit /= np.linalg.norm(unit, axis=1)[:, None]   # vtk stores float32 points: back onto the sphere
+    triangles = sphere.faces.reshape(-1, 4)[:, 1:]
+    # the flip z = -x3 is a reflection: reverse each triangle so that its normal still points outwards
+    triangles = triangles[:, ::-1]
+    points, faces, index, young, poisson = [], [], [], [], []
+    for k, body in enumerate(inclusions):
+        x = np.asarray(body.center) + (unit * np.asarray(body.semi_axes)) @ np.asarray(body.orientation).T
+        x[:, 2] = -x[:, 2]
+        faces.append(triangles + len(unit) * k)
+        points.append(x)
+        index.append(np.full(len(triangles), k + 1, dtype=np.int32))
+        for values, name in ((young, "young"), (poisson, "poisson")):
+            values.append(np.full(len(triangles), float(getattr(body.material, name, np.nan))))
+    if not points:
+        return pv.PolyData()
+    faces = np.concatenate(faces)
+    mesh = pv.PolyData(np.concatenate(points),
+                       np.column_stack([np.full(len(faces), 3), faces]).ravel().astype(np.int64))
+    mesh.cell_data["inhomogeneity"] = np.concatenate(index)
+    mesh.cell_data["young"] = np.concatenate(young)
+    mesh.cell_data["poisson"] = np.concatenate(poisson)
     return mesh

@@ -291,6 +291,8 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
         ``slice``: the subsurface stresses in the plane ``plane = origin``
         (the layer of cells containing it, exact cell values); with
         ``clip=True`` a 3-D view of the layers on the far side of the plane.
+        A run's inhomogeneities are outlined in black where the plane cuts
+        them, and in the 3-D view also drawn whole, translucent white.
     clim : tuple of float, optional
         Colour range [SI unit]; default: the field's minimum and maximum,
         cleaned by :func:`colour_limits` (round-off ends -> 0, symmetric
@@ -419,6 +421,10 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
         axes = {0: "x1", 1: "x2"}
     elif not clip:
         actor = plotter.add_mesh(mesh, lighting=False, **options)
+        # view_xz looks from -x2, view_yz from +x1
+        # cut through the centres of the drawn cells, the plane the title names
+        _inclusions(plotter, result, length_scale, plane, _centres(grid, plane)[index],
+                    toward=-1 if plane == "x2" else 1, surfaces=False, at=origin)
         if plane == "x2":
             plotter.view_xz()
             bar = _fit_2d(plotter, mesh, (0, 2), box)
@@ -429,6 +435,8 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
             axes = {1: "x2", 2: "z"}
     else:
         actor = plotter.add_mesh(mesh, ambient=0.6, diffuse=0.45, specular=0.0, **options)
+        # the camera looks at the cut face from the removed side (-x2, resp. -x1)
+        _inclusions(plotter, result, length_scale, plane, _corners(grid, plane)[index], toward=-1, surfaces=True)
         _camera_3d(plotter, mesh, azimuth=-55 if plane == "x2" else -145, elevation=25, zoom=0.95)
         axes = {0: "x1", 1: "x2", 2: "z"}
     axis_labels = overlay.axes(mesh.bounds, {a: f"{name} [{length_unit}]" for a, name in axes.items()},
@@ -761,6 +769,10 @@ def _centres(grid, plane):
     return grid.x2 if plane == "x2" else grid.x1
 
 
+def _corners(grid, plane):
+    return meshes.corner_coordinates(grid)[1 if plane == "x2" else 0]
+
+
 def _plane_index(grid, plane, origin):
     axis = 1 if plane == "x2" else 0
     half = grid.size[axis] / 2
@@ -806,6 +818,31 @@ def _contact_outline(plotter, result, k, length_scale):
     outline = mesh.contour([0.5], scalars="contact")
     if outline.n_points:
         plotter.add_mesh(outline, color="white", line_width=3, lighting=False, label="contact edge")
+
+
+def _inclusions(plotter, result, length_scale, plane, cut, toward, surfaces, at=None):
+    """The inhomogeneities of a slice picture: their section by the plane ``plane = cut`` [m] as black curves.
+
+    The curves are drawn in the plane ``plane = at`` (default ``cut``: that
+    of the coloured cells) moved off it by 0.1 % of the grid side ``toward``
+    the camera (+1: along +x2, resp. +x1) so that no cell hides them; with
+    ``surfaces`` the ellipsoids are drawn too, translucent (the
+    parts inside the drawn cells stay hidden by them).
+    """
+    if not getattr(result, "inclusions", None):
+        return
+    mesh = meshes.inclusion_mesh(result.inclusions)
+    mesh.points[:] /= length_scale
+    axis = 1 if plane == "x2" else 0
+    origin = np.zeros(3)
+    origin[axis] = cut / length_scale
+    outline = mesh.slice(normal=tuple(np.eye(3)[axis]), origin=tuple(origin))
+    if surfaces:
+        plotter.add_mesh(mesh, color="white", opacity=0.45, smooth_shading=True, show_scalar_bar=False)
+    if outline.n_points:
+        outline.points[:, axis] = (cut if at is None else at) / length_scale \
+            + toward * 1e-3 * max(result.grid.size) / length_scale
+        plotter.add_mesh(outline, color="black", line_width=3, lighting=False, label="inhomogeneity")
 
 
 def _indenter(plotter, result, k, warp_factor, length_scale, deepest):
