@@ -28,6 +28,7 @@ bench: $(STAMP)
 	$(PY) bench/elastic_hertz.py
 	$(PY) bench/visco_indentation.py
 	$(PY) bench/rolling.py
+	$(PY) bench/inclusion.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

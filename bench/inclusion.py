@@ -1,0 +1,152 @@
+"""Elastic inhomogeneities: one coupled contact step, and the equivalent-inclusion solve on large boxes, timed.
+
+This project alone: Tamaas, the peer of ``elastic_hertz.py``, has no
+inhomogeneities. Their accuracy is checked in the tests (Eshelby's interior
+solution, the half-space references); here only their cost. Prints the
+machine, then
+
+1. one coupled static step (``Simulation(..., inclusions=[...])``): a rigid
+   sphere R = 10 mm, W = 50 N on steel (E = 210 GPa, nu = 0.3; Hertz radius
+   a = 0.118 mm) over a tungsten-carbide sphere (E = 600 GPa, nu = 0.22) of
+   20 cells per diameter, centre depth a, under a 128 x 128 contact grid of
+   cubes a / 16 (32 layers, 2 a deep), the default box margin (half a
+   semi-axis); the construction (the eigenstrain operator's spectra), the run,
+   the coupling iterations, the GMRES iterations of each coupling's
+   equivalent-inclusion solve (counted by wrapping
+   ``EquivalentInclusionProblem.solve`` from outside) and the memory;
+2. ``solve_inclusions``'s two stages on boxes of n^3 cuboids (n = 64, and 128
+   with ``--large``): a sphere of diameter n cells, margin 0, so the box is
+   the sphere's bounding block, under a uniform uniaxial strain 1e-3 along
+   x1; build = ``InclusionProblem`` (operator spectra, indicator,
+   preconditioner), solve = the GMRES solve at tolerance 1e-10, and memory.
+
+Memory: the process's peak resident size (``ru_maxrss``: it only grows, so
+each case reports the peak so far, cases in increasing size) and the peak of
+the Python-tracked allocations (numpy arrays) during the case (tracemalloc,
+reset per case).
+
+    .venv/bin/python bench/inclusion.py [--sizes 64] [--large] [--skip-contact]
+"""
+import argparse
+import os
+import resource
+import sys
+import time
+import tracemalloc
+from unittest import mock
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import framework as fw  # noqa: E402
+from framework import inclusions, indenters, materials, reference, schedules  # noqa: E402
+from framework.inclusions import equivalent  # noqa: E402
+from framework.inclusions.field import InclusionProblem, strain_vector  # noqa: E402
+from elastic_hertz import machine  # noqa: E402
+from rolling import libraries  # noqa: E402
+
+STEEL = materials.Elastic(young=210e9, poisson=0.3)
+CARBIDE = materials.Elastic(young=600e9, poisson=0.22)
+RADIUS, LOAD = 10e-3, 50.0
+A = reference.HertzSphere(radius=RADIUS, load=LOAD, contact_modulus=STEEL.contact_modulus).contact_radius
+
+
+def peak_rss():
+    """Peak resident set size of this process so far [GiB] (Linux reports kiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+
+
+class traced:
+    """Peak tracemalloc allocation [GiB] during the ``with`` block (``self.peak``)."""
+
+    def __enter__(self):
+        tracemalloc.reset_peak()
+        return self
+
+    def __exit__(self, *_):
+        self.peak = tracemalloc.get_traced_memory()[1] / 2**30
+
+
+def coupled_step(cells=128, diameter=20):
+    """One coupled static step; its times, couplings, GMRES iterations per coupling and memory."""
+    cell = A / 16
+    grid = fw.Grid(shape=(cells, cells), size=(cells * cell, cells * cell), depth=2 * A, layers=32)
+    sphere = inclusions.Ellipsoid(center=(0.0, 0.0, A), semi_axes=(diameter * cell / 2,) * 3, material=CARBIDE)
+    iterations = []
+    solve = equivalent.EquivalentInclusionProblem.solve
+
+    def counted(self, *args, **kwargs):
+        out = solve(self, *args, **kwargs)
+        iterations.append(out.iterations)
+        return out
+
+    with traced() as memory:
+        begin = time.perf_counter()
+        sim = fw.Simulation(grid=grid, material=STEEL, indenter=indenters.Sphere(radius=RADIUS),
+                            schedule=schedules.Static(load=[LOAD]), inclusions=[sphere])
+        build = time.perf_counter() - begin
+        with mock.patch.object(equivalent.EquivalentInclusionProblem, "solve", counted):
+            begin = time.perf_counter()
+            result = sim.run()
+            run = time.perf_counter() - begin
+    problem = sim._inclusion_problem
+    return dict(build=build, run=run, couplings=result.records[0].couplings, gmres=iterations,
+                contact_iterations=int(result.iterations[0]), box=problem.shape,
+                cells=int(np.count_nonzero(problem.indicator)), traced=memory.peak, rss=peak_rss(),
+                pressure=float(result.max_pressure[0]))
+
+
+def box_solve(n):
+    """``solve_inclusions``'s build and solve on an n^3 box filled by a sphere of diameter n cells."""
+    cell = 1e-6
+    radius = n * cell / 2
+    # the box is the sphere's bounding block: start it one layer down, leave a cell of grid around it
+    grid = fw.Grid(shape=(n + 2, n + 2), size=((n + 2) * cell, (n + 2) * cell), depth=(n + 2) * cell,
+                   layers=n + 2)
+    sphere = inclusions.Ellipsoid(center=(0.0, 0.0, cell + radius), semi_axes=(radius * (1 - 1e-9),) * 3,
+                                  material=CARBIDE)
+    applied = strain_vector(np.diag([1e-3, 0.0, 0.0]), name="applied_strain")
+    with traced() as memory:
+        begin = time.perf_counter()
+        problem = InclusionProblem(grid, STEEL, inclusions.InclusionSet([sphere]), margin=0.0)
+        build = time.perf_counter() - begin
+        begin = time.perf_counter()
+        solution = problem.problem.solve(applied, tolerance=1e-10)
+        solve = time.perf_counter() - begin
+    return dict(box=problem.shape, cells=int(np.count_nonzero(problem.indicator)), build=build, solve=solve,
+                iterations=solution.iterations, residual=solution.residual, traced=memory.peak, rss=peak_rss())
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[64], help="box sides n (cuboids) of part 2")
+    parser.add_argument("--large", action="store_true", help="add the 128^3 box (minutes, several GiB)")
+    parser.add_argument("--skip-contact", action="store_true", help="leave out part 1")
+    args = parser.parse_args()
+    sizes = sorted(set(args.sizes + ([128] if args.large else [])))
+    print(machine())
+    print(libraries())
+    tracemalloc.start()
+    if not args.skip_contact:
+        row = coupled_step()
+        print(f"\n1. coupled step: rigid sphere R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N on steel (a = {A * 1e3:.4g} mm),"
+              f" WC sphere of 20 cells per diameter at depth a, contact grid 128 x 128 of cubes a/16")
+        print(f"   box {row['box']} cuboids, {row['cells']} in the inhomogeneity ({6 * row['cells']} unknowns)")
+        print(f"   construction {row['build']:.2f} s, run {row['run']:.2f} s, {row['couplings']} couplings, "
+              f"GMRES iterations per coupling {row['gmres']}, contact (PK) iterations {row['contact_iterations']}")
+        print(f"   peak traced {row['traced']:.3f} GiB, peak RSS {row['rss']:.3f} GiB; p_max {row['pressure'] / 1e9:.4g} GPa",
+              flush=True)
+    print("\n2. solve_inclusions on n^3 boxes (sphere of diameter n cells, WC in steel, uniaxial 1e-3)")
+    print(f"{'box':>14} {'incl. cells':>11} {'unknowns':>9} {'build s':>8} {'solve s':>8} {'GMRES':>6} "
+          f"{'residual':>9} {'traced GiB':>10} {'RSS GiB':>8}")
+    for n in sizes:
+        row = box_solve(n)
+        print(f"{'x'.join(map(str, row['box'])):>14} {row['cells']:>11} {6 * row['cells']:>9} {row['build']:>8.2f} "
+              f"{row['solve']:>8.2f} {row['iterations']:>6} {row['residual']:>9.2e} {row['traced']:>10.3f} "
+              f"{row['rss']:>8.3f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
