@@ -37,6 +37,10 @@ PATCH_DEPTHS = 4.0
 COMPONENTS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 #: Weights of the six components in a contraction ``a : b`` (shears count twice).
 CONTRACTION = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0])
+#: Mandel's scaling of the six components (shears times sqrt 2): symmetric stiffness matrices.
+MANDEL = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
+#: Sign of each component in the mirror image (x3 -> -x3): the 13 and 23 shears change sign.
+MIRROR = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
 
 
 def _sum_r(t, r, rest2):
@@ -256,12 +260,17 @@ class HalfSpaceEigenstrain:
         self.depths = grid.x3[start[2]:start[2] + shape[2]]
         self.fft_shape = tuple(2 * m for m in shape)
         faces = [(np.arange(-m, m) + 0.5) * h for m, h in zip(shape, self.spacing)]
-        # Each kernel is even or odd in each offset with an even number of odd axes: real spectra.
-        self._direct = {key: fft.rfft3(_wrapped(value)).real for key, value in potential_kernels(*faces).items()}
+        # Each potential kernel is even or odd in each offset with an even number of odd axes: real spectra.
+        self._direct = self._stiffness_spectra({key: fft.rfft3(_wrapped(value)).real
+                                                for key, value in potential_kernels(*faces).items()})
         dz = self.spacing[2]
         mirror_faces = (2 * start[2] + np.arange(2 * shape[2]) + 0.5) * dz
-        self._mirror = {key: fft.rfft3(_wrapped(value)) for key, value in
-                        potential_kernels(faces[0], faces[1], mirror_faces).items()}
+        self._mirror = self._stiffness_spectra({key: fft.rfft3(_wrapped(value)) for key, value in
+                                                potential_kernels(faces[0], faces[1], mirror_faces).items()})
+        # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
+        # field, a reversal of the other two wavenumbers, a conjugation and a phase in q3.
+        q3 = np.arange(shape[2] + 1)
+        self._flip_phase = np.exp(-2j * np.pi * q3 * (shape[2] - 1) / self.fft_shape[2])
         # The Boussinesq correction works on a surface patch around the box: the traction the
         # eigenstrains leave decays like 1/r^3, and beyond PATCH_DEPTHS times the box's bottom depth
         # its stress at the box is below ~1e-3 of the correction (which is itself small unless the
@@ -277,6 +286,22 @@ class HalfSpaceEigenstrain:
         self._surface_stress = None
         self._footprint = (slice(start[0] - low[0], start[0] - low[0] + shape[0]),
                            slice(start[1] - low[1], start[1] - low[1] + shape[1]))
+
+    def _stiffness_spectra(self, potentials):
+        """The 21 entries ``a <= b`` of ``C : D`` (unit Young's modulus, Mandel basis) from the potentials' spectra.
+
+        ``C : D`` is symmetric (it is ``C : Gamma : C``, Gamma the Green operator), so 21
+        spectra carry the 36 products, and a product costs 36 multiply-adds.
+        """
+        nu = self.poisson
+        out = {}
+        for b in range(6):
+            column = stress_from_strain(strain_from_potentials(potentials, np.eye(6)[b] / MANDEL[b], nu), nu)
+            for a in range(b + 1):
+                out[(a, b)] = column[..., a] * MANDEL[a]
+            del column
+        potentials.clear()
+        return out
 
     def _traction_spectra(self):
         """Spectra ``(m3, 6, 2 n1, n2 + 1)`` of ``s33`` at the surface (unit modulus) per layer and component."""
@@ -349,17 +374,24 @@ class HalfSpaceEigenstrain:
         eigenstrain = self._check(eigenstrain)
         m1, m2, m3 = self.shape
         padded = np.zeros((6, *self.fft_shape))
-        padded[:, :m1, :m2, :m3] = _to_components_first(eigenstrain)
-        direct = np.moveaxis(fft.rfft3(padded), 0, -1)
-        mirrored = eigenstrain[:, :, ::-1, :] * np.array([1, 1, 1, -1, -1, 1])
-        padded[:, :m1, :m2, :m3] = _to_components_first(mirrored)
-        mirror = np.moveaxis(fft.rfft3(padded), 0, -1)
-        spectrum = (strain_from_potentials(self._direct, direct, self.poisson)
-                    + strain_from_potentials(self._mirror, mirror, self.poisson))
-        infinite = fft.irfft3(_to_components_first(spectrum), self.fft_shape)[:, :m1, :m2, :m3]
+        padded[:, :m1, :m2, :m3] = _to_components_first(eigenstrain * MANDEL)
+        direct = fft.rfft3(padded)
+        reversed_ = np.roll(direct[:, ::-1, ::-1, :], 1, axis=(1, 2))
+        mirror = np.conj(reversed_) * self._flip_phase * MIRROR[:, None, None, None]
+        stress = np.zeros_like(direct)
+        for (a, b), kernel in self._direct.items():
+            stress[a] += kernel * direct[b]
+            if a != b:
+                stress[b] += kernel * direct[a]
+        for (a, b), kernel in self._mirror.items():
+            stress[a] += kernel * mirror[b]
+            if a != b:
+                stress[b] += kernel * mirror[a]
+        infinite = fft.irfft3(stress, self.fft_shape)[:, :m1, :m2, :m3]
+        infinite = np.moveaxis(infinite, 0, -1) / MANDEL
         pressure = self.surface_traction(eigenstrain)
         correction = self._stress.apply(pressure, self.depths)[self._footprint]
-        return np.moveaxis(infinite, 0, -1) + strain_from_stress(correction, self.poisson)
+        return strain_from_stress(infinite + correction, self.poisson)
 
     def strain_at(self, points, eigenstrain):
         """Total strain ``(n, 6)`` at arbitrary points ``(n, 3)`` [m] of the half-space, by direct sums.
