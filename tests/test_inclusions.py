@@ -282,3 +282,19 @@ def test_simulation_refuses_what_the_coupling_cannot_do():
                                     material=materials.Elastic(3 * E, NU))]
     with pytest.raises(ParameterError, match="cuts the surface"):
         fw.Simulation(grid=grid, material=materials.Elastic(E, NU), indenter=ball, schedule=static, inclusions=shallow)
+
+
+def test_eccentric_punch_over_a_stiff_inhomogeneity_tilts_less_towards_it():
+    """Eccentric load over a stiff inhomogeneity: the load centre stays at the offset, the tilt shrinks."""
+    grid = fw.Grid(shape=(40, 40), size=(1.0e-3, 1.0e-3), depth=0.4e-3, layers=16)
+    punch = indenters.FlatPunch(radius=0.3e-3)
+    schedule = schedules.Eccentric(load=200.0, offset=(0.1e-3, 0.0), times=[1.0])
+    body = [inclusions.Ellipsoid(center=(0.2e-3, 0.0, 0.15e-3), semi_axes=(0.1e-3,) * 3,
+                                 material=materials.Elastic(3 * E, NU))]
+    tilts = []
+    for bodies in (None, body):
+        run = fw.Simulation(grid=grid, material=materials.Elastic(E, NU), indenter=punch, schedule=schedule,
+                            inclusions=bodies, options={"tolerance": 1e-10}).run()
+        assert run.center[-1] == pytest.approx([0.1e-3, 0.0], abs=1e-9)
+        tilts.append(run.tilt[-1, 0])
+    assert abs(tilts[1]) < abs(tilts[0])
