@@ -62,6 +62,22 @@ def test_fft_operator_equals_direct_sums():
     assert np.abs(direct - np.array([strain[c] for c in cells])).max() <= 1e-12 * np.abs(strain).max()
 
 
+def test_surface_traction_equals_direct_sums():
+    """The traction 2 s33 the eigenstrains leave on the surface, against direct corner sums (infinite body)."""
+    from framework.operators.eigenstrain import strain_at_points, stress_from_strain
+    grid = fw.Grid(shape=(40, 40), size=(4.0e-3, 4.0e-3), depth=2e-3, layers=16)
+    operator = HalfSpaceEigenstrain(grid, NU, start=(14, 16, 0), shape=(8, 6, 5))   # touching the surface
+    eigen = np.random.default_rng(2).normal(size=(8, 6, 5, 6)) * 1e-3
+    traction = operator.surface_traction(eigen)
+    centres = np.stack(np.meshgrid(grid.x1[14:22], grid.x2[16:22], grid.x3[:5], indexing="ij"), -1).reshape(-1, 3)
+    cells = [(operator.patch[0].start, operator.patch[1].start), (15, 30), (35, 4)]
+    points = np.array([[grid.x1[i], grid.x2[j], -1e-12 * operator.spacing[2]] for i, j in cells])
+    direct = 2 * stress_from_strain(strain_at_points(points, centres, eigen.reshape(-1, 6),
+                                                     0.5 * np.array(operator.spacing), NU), NU)[:, 2]
+    got = [traction[i - operator.patch[0].start, j - operator.patch[1].start] for i, j in cells]
+    assert np.abs(np.array(got) - direct).max() <= 1e-9 * np.abs(direct).max()
+
+
 def test_half_space_cuboid_against_mindlin_quadrature():
     """One loaded cuboid in the half-space: strain around it against Mindlin's point-force solution."""
     from framework.reference.eigenstrain import mindlin_cuboid_strain

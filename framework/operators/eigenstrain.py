@@ -315,11 +315,13 @@ class HalfSpaceEigenstrain:
             faces3[-1] = -1e-12 * dz  # the surface itself: s33 is continuous there (traction)
         potentials = potential_kernels(faces1, faces2, faces3)
         nu = self.poisson
+        # C : D is symmetric in Mandel's basis, so s33 per unit eigenstrain component c is the c-th
+        # stress of a unit e*_33: one column instead of six (Mandel weights squared = CONTRACTION).
+        column = stress_from_strain(strain_from_potentials(potentials, np.eye(6)[2], nu), nu) * CONTRACTION
+        del potentials
         spectra = np.empty((m3, 6, 2 * n1, n2 + 1), dtype=complex)
         for c in range(6):
-            strain = strain_from_potentials(potentials, np.eye(6)[c], nu)
-            s33 = stress_from_strain(strain, nu)[..., 2]           # (2n1-1, 2n2-1, m3), layers bottom-up
-            s33 = np.pad(s33, [(1, 0), (1, 0), (0, 0)])
+            s33 = np.pad(column[..., c], [(1, 0), (1, 0), (0, 0)])   # (2n1-1, 2n2-1, m3), layers bottom-up
             s33 = np.fft.ifftshift(s33, axes=(0, 1))[:, :, ::-1]   # layers top-down, wrap-around order
             spectra[:, c] = fft.rfft2(np.ascontiguousarray(np.moveaxis(s33, -1, 0)))
         return spectra
