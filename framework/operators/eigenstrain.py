@@ -76,6 +76,29 @@ def _psi_two_one_one(ti, tj, tk, r):
     return ti / r
 
 
+def _corner_function(key, t, r):
+    """One corner function ``D H`` (``key`` a sorted index tuple) at offsets ``t`` with ``r = |t|``."""
+    counts = [key.count(axis) for axis in range(3)]
+    order = sorted(range(3), key=lambda axis: -counts[axis])     # axes by decreasing count
+    i, j, k = order
+    if len(key) == 2:
+        if counts[i] == 2:
+            return _phi_diagonal(t[i], t[j], t[k], r)
+        return _phi_mixed(t[i], t[j], t[k], r)                   # k: the axis not in the key
+    if counts[i] == 4:
+        return _psi_four(t[i], t[j], t[k], r)
+    if counts[i] == 3:
+        return _psi_three_one(t[i], t[j], t[k], r)
+    if counts[j] == 2:
+        return _psi_two_two(t[i], t[j], t[k], r)
+    return _psi_two_one_one(t[i], t[j], t[k], r)
+
+
+#: The 21 derivatives of the potentials a strain needs: ``(i, j)`` for ``phi_,ij``, ``(i, j, k, l)`` for ``psi_,ijkl``.
+KEYS = tuple(sorted({tuple(sorted(c)) for c in np.ndindex(3, 3)} | {tuple(sorted(c)) for c in np.ndindex(3, 3, 3, 3)},
+                    key=lambda key: (len(key), key)))
+
+
 def _corner_functions(t):
     """The 21 corner functions ``D H`` at offsets ``t = (t1, t2, t3)`` from a cuboid's corner.
 
@@ -84,18 +107,17 @@ def _corner_functions(t):
     through a target point).
     """
     r = np.sqrt(t[0] ** 2 + t[1] ** 2 + t[2] ** 2)
-    out = {}
-    for i in range(3):
-        j, k = (i + 1) % 3, (i + 2) % 3
-        ti, tj, tk = t[i], t[j], t[k]
-        out[(i, i)] = _phi_diagonal(ti, tj, tk, r)
-        out[tuple(sorted((i, j)))] = _phi_mixed(ti, tj, tk, r)
-        out[(i, i, i, i)] = _psi_four(ti, tj, tk, r)
-        out[tuple(sorted((i, i, i, j)))] = _psi_three_one(ti, tj, tk, r)
-        out[tuple(sorted((i, i, i, k)))] = _psi_three_one(ti, tk, tj, r)
-        out[tuple(sorted((i, i, j, j)))] = _psi_two_two(ti, tj, tk, r)
-        out[tuple(sorted((i, i, j, k)))] = _psi_two_one_one(ti, tj, tk, r)
-    return out
+    return {key: _corner_function(key, t, r) for key in KEYS}
+
+
+def potential_kernel_items(faces1, faces2, faces3):
+    """:func:`potential_kernels` one key at a time, ``(key, array)``: a lattice array or two in memory."""
+    shape = (len(faces1), len(faces2), len(faces3))
+    t = [np.broadcast_to(c, shape) for c in np.meshgrid(faces1, faces2, faces3, indexing="ij", sparse=True)]
+    r = np.sqrt(t[0] ** 2 + t[1] ** 2 + t[2] ** 2)
+    for key in KEYS:
+        # Per axis, int_a^b f(x - x') dx' = H(x - a) - H(x - b): a forward difference in t = x - c.
+        yield key, np.diff(np.diff(np.diff(_corner_function(key, t, r), axis=0), axis=1), axis=2)
 
 
 def potential_kernels(faces1, faces2, faces3):
@@ -115,10 +137,7 @@ def potential_kernels(faces1, faces2, faces3):
         ``(len(faces1) - 1, len(faces2) - 1, len(faces3) - 1)``; the value for cuboid
         ``n`` is ``D int_cuboid f(x - x') dV'``.
     """
-    t = np.meshgrid(faces1, faces2, faces3, indexing="ij", sparse=True)
-    values = _corner_functions([np.broadcast_to(c, (len(faces1), len(faces2), len(faces3))) for c in t])
-    # Per axis, int_a^b f(x - x') dx' = H(x - a) - H(x - b): a forward difference in t = x - c.
-    return {key: np.diff(np.diff(np.diff(v, axis=0), axis=1), axis=2) for key, v in values.items()}
+    return dict(potential_kernel_items(faces1, faces2, faces3))
 
 
 def strain_from_potentials(potentials, eigenstrain, poisson):
@@ -222,6 +241,18 @@ def _to_components_first(field):
     return np.ascontiguousarray(np.moveaxis(field, -1, 0))
 
 
+def _stiffness_coefficients(poisson):
+    """``{(a, b): {key: weight}}``: the entries ``a <= b`` of ``C : D`` as combinations of the potentials."""
+    out = {(a, b): {} for b in range(6) for a in range(b + 1)}
+    for key in KEYS:
+        unit = {k: float(k == key) for k in KEYS}
+        for b in range(6):
+            column = stress_from_strain(strain_from_potentials(unit, np.eye(6)[b] / MANDEL[b], poisson), poisson)
+            for a in range(b + 1):
+                out[(a, b)][key] = float(column[a] * MANDEL[a])
+    return out
+
+
 class HalfSpaceEigenstrain:
     """Strain in a box of cuboids of the half-space caused by eigenstrains in the same box.
 
@@ -260,13 +291,11 @@ class HalfSpaceEigenstrain:
         self.depths = grid.x3[start[2]:start[2] + shape[2]]
         self.fft_shape = tuple(2 * m for m in shape)
         faces = [(np.arange(-m, m) + 0.5) * h for m, h in zip(shape, self.spacing)]
-        # Each potential kernel is even or odd in each offset with an even number of odd axes: real spectra.
-        self._direct = self._stiffness_spectra({key: fft.rfft3(_wrapped(value)).real
-                                                for key, value in potential_kernels(*faces).items()})
+        # Each kernel is even or odd in each offset with an even number of odd axes: real spectra.
+        self._direct = self._stiffness_spectra(potential_kernel_items(*faces), real=True)
         dz = self.spacing[2]
         mirror_faces = (2 * start[2] + np.arange(2 * shape[2]) + 0.5) * dz
-        self._mirror = self._stiffness_spectra({key: fft.rfft3(_wrapped(value)) for key, value in
-                                                potential_kernels(faces[0], faces[1], mirror_faces).items()})
+        self._mirror = self._stiffness_spectra(potential_kernel_items(faces[0], faces[1], mirror_faces), real=False)
         # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
         # field, a reversal of the other two wavenumbers, a conjugation and a phase in q3.
         q3 = np.arange(shape[2] + 1)
@@ -287,21 +316,31 @@ class HalfSpaceEigenstrain:
         self._footprint = (slice(start[0] - low[0], start[0] - low[0] + shape[0]),
                            slice(start[1] - low[1], start[1] - low[1] + shape[1]))
 
-    def _stiffness_spectra(self, potentials):
-        """The 21 entries ``a <= b`` of ``C : D`` (unit Young's modulus, Mandel basis) from the potentials' spectra.
+    def _stiffness_spectra(self, items, real):
+        """Spectra of the 21 entries ``a <= b`` of ``C : D`` (unit Young's modulus, Mandel basis).
 
         ``C : D`` is symmetric (it is ``C : Gamma : C``, Gamma the Green operator), so 21
-        spectra carry the 36 products, and a product costs 36 multiply-adds.
+        spectra carry the 36 products, and a product costs 36 multiply-adds. Each entry is
+        a fixed combination of the potentials' derivatives: they are accumulated one
+        derivative at a time (21 lattice arrays in memory, not 42), then transformed.
         """
-        nu = self.poisson
-        out = {}
-        for b in range(6):
-            column = stress_from_strain(strain_from_potentials(potentials, np.eye(6)[b] / MANDEL[b], nu), nu)
-            for a in range(b + 1):
-                out[(a, b)] = column[..., a] * MANDEL[a]
-            del column
-        potentials.clear()
-        return out
+        coefficients = _stiffness_coefficients(self.poisson)
+        kernels = {}
+        for key, values in items:
+            for entry, weights in coefficients.items():
+                weight = weights[key]
+                if weight == 0.0:
+                    continue
+                if entry in kernels:
+                    kernels[entry] += weight * values
+                else:
+                    kernels[entry] = weight * values
+            del values
+        spectra = {}
+        for entry in list(kernels):
+            spectrum = fft.rfft3(_wrapped(kernels.pop(entry)))
+            spectra[entry] = np.ascontiguousarray(spectrum.real) if real else spectrum
+        return spectra
 
     def _traction_spectra(self):
         """Spectra ``(m3, 6, 2 n1, n2 + 1)`` of ``s33`` at the surface (unit modulus) per layer and component."""
