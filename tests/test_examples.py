@@ -6,10 +6,7 @@ import runpy
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-#: Examples whose small-grid run still takes half a minute: run by `make test-all`.
-SLOW = {"inhomogeneity_under_contact.py"}
-EXAMPLES = [pytest.param(path, marks=pytest.mark.slow) if os.path.basename(path) in SLOW else path
-            for path in sorted(glob.glob(os.path.join(ROOT, "examples", "*.py")))]
+EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.py")))
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=os.path.basename)

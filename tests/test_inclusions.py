@@ -266,7 +266,6 @@ def test_stiff_raises_soft_lowers_the_pressure_and_the_effect_fades_with_depth()
     assert changes["soft"][0] < changes["soft"][1] < 0
 
 
-@pytest.mark.slow
 def test_small_inhomogeneity_follows_the_dilute_approach_change():
     """Approach change of a small sphere at depth a/2 against Eshelby + Betti (first order in its volume)."""
     load, depth = 40.0, 0.06e-3
