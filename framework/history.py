@@ -126,8 +126,8 @@ class PronyRecursion:
     def commit(self, time, pressure):
         state = self.state
         if len(self.coefficients) or self.series.flow:
-            state.fields = self._decay[:, None, None] * state.fields \
-                + self._weight[:, None, None] * (pressure - state.pressure)
+            expand = (slice(None),) + (None,) * np.ndim(pressure)    # one factor per term, any field shape
+            state.fields = self._decay[expand] * state.fields + self._weight[expand] * (pressure - state.pressure)
             state.integral = state.integral + 0.5 * self._dt * (state.pressure + pressure)
         state.pressure, state.time = pressure, time
 

@@ -318,7 +318,12 @@ class Result:
             out[i] = p @ coefficients
         record = self._record(step)
         if record.eigenstrain is not None:
+            from .materials import Elastic
             from .operators.eigenstrain import strain_from_stress
+            if not isinstance(self.material, Elastic):
+                raise ParameterError("stress_at: with inhomogeneities in a viscoelastic matrix the stress around "
+                                     "them depends on the history of their fields, kept on the cuboids only; read "
+                                     "Result.stress(step) (cuboid centres) instead")
             strain = strain_from_stress(out, self.material.poisson, self.material.young)
             out = self._inclusions_problem().stress_at(points, lambda _: strain, record.eigenstrain)
         return out

@@ -257,16 +257,16 @@ class Simulation:
             return None
         from .inclusions import InclusionSet
         from .inclusions.field import InclusionProblem
-        from .materials import Elastic
+        from .materials import Elastic, Viscoelastic
         if not isinstance(inclusions, InclusionSet):
             inclusions = InclusionSet(inclusions)
         if len(inclusions) == 0:
             self._inclusion_problem = None
             return inclusions
-        if not isinstance(self.material, Elastic):
-            raise ParameterError(f"inclusions need an elastic matrix (materials.Elastic) in this version, got "
-                                 f"{type(self.material).__name__}: a viscoelastic matrix with inhomogeneities is "
-                                 f"not available yet")
+        if not isinstance(self.material, (Elastic, Viscoelastic)):
+            raise ParameterError(f"inclusions need an elastic matrix or a viscoelastic solid with an instantaneous "
+                                 f"modulus (materials.Elastic or materials.Viscoelastic, e.g. StandardLinearSolid, "
+                                 f"PMMA), got {type(self.material).__name__}")
         if isinstance(self.schedule, schedules.Rolling):
             raise ParameterError("inclusions work with Static and Eccentric schedules in this version, got Rolling")
         margin = self.options.inclusion_margin
@@ -363,16 +363,17 @@ class Simulation:
             integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         self._integrator, start, index = integrator, 0, 0
         if state is not None:
-            integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")})
+            integrator.restore({key: value for key, value in state.items()
+                                if key not in ("station", "index") and not key.startswith("inclusion_")})
             start, index = int(state["station"]), int(state["index"])
         load_control = schedule.control == "load"
         coupling = None
         if self._inclusion_problem is not None:
             from .inclusions.coupling import ContactCoupling
-            coupling = ContactCoupling(self._inclusion_problem, tolerance=options.coupling_tolerance)
-            if state is not None and "eigenstrain" in state:
-                coupling.eigenstrain = state["eigenstrain"]
-                coupling.displacement = self._inclusion_problem.operator.surface_displacement(state["eigenstrain"])
+            coupling = ContactCoupling(self._inclusion_problem, tolerance=options.coupling_tolerance,
+                                       history=options.history)
+            if state is not None and "inclusion_eigenstrain" in state:
+                coupling.restore(state)
         self._coupling = coupling
         offset = getattr(schedule, "offset", None)
         coordinates = grid.coordinates() if offset is not None else None
@@ -397,7 +398,9 @@ class Simulation:
                 if coupling is None:
                     solution = solve()
                 else:
+                    coupling.prepare(station.time)
                     coupled = coupling.solve(solve)
+                    coupling.commit(coupled)
                     solution = coupled.contact
                     history_displacement = history_displacement + coupled.displacement
             if options.check_edges:
@@ -411,8 +414,8 @@ class Simulation:
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
                                  success=solution.success, tilt=tuple(np.arctan(solution.slopes)),
                                  **({} if coupling is None else dict(
-                                     eigenstrain=coupled.inclusions.eigenstrain,
-                                     inclusion_stress=coupled.inclusions.stress, couplings=coupled.couplings)))
+                                     eigenstrain=coupled.eigenstrain,
+                                     inclusion_stress=coupled.stress, couplings=coupled.couplings)))
                 index += 1
 
     def run(self, progress=False, callback=None, checkpoint=None, every=10, resume=None):
@@ -461,7 +464,7 @@ class Simulation:
 
         def save():
             position = self._position
-            extra = {} if self._coupling is None else {"eigenstrain": self._coupling.eigenstrain}
+            extra = {} if self._coupling is None else self._coupling.snapshot()
             io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1],
                                              **extra),
                     name="checkpoint")

@@ -72,8 +72,8 @@ def test_resume_gives_the_uninterrupted_result(whole, tmp_path):
     with pytest.raises(Interrupt):
         simulation().run(checkpoint=tmp_path / "c.h5", every=1, callback=stop)
     configuration, records, state = io.read(tmp_path / "c.h5")
-    assert len(records) == 1 and "eigenstrain" in state
-    assert np.array_equal(state["eigenstrain"], whole.records[0].eigenstrain)
+    assert len(records) == 1 and "inclusion_eigenstrain" in state
+    assert np.array_equal(state["inclusion_eigenstrain"], whole.records[0].eigenstrain)
     resumed = simulation().run(resume=tmp_path / "c.h5")
     assert len(resumed) == len(whole)
     for a, b in zip(resumed.records, whole.records):

@@ -288,8 +288,9 @@ def test_simulation_refuses_what_the_coupling_cannot_do():
     body = [inclusions.Ellipsoid(center=(0, 0, 0.15e-3), semi_axes=(0.06e-3,) * 3, material=materials.Elastic(3 * E, NU))]
     ball = indenters.Sphere(radius=10e-3)
     static = schedules.Static(load=loads.Step(40.0), times=[1.0])
-    with pytest.raises(ParameterError, match="inclusions need an elastic matrix"):
-        fw.Simulation(grid=grid, material=materials.PMMA, indenter=ball, schedule=static, inclusions=body)
+    with pytest.raises(ParameterError, match="inclusions need an elastic matrix or a viscoelastic solid"):
+        fw.Simulation(grid=grid, material=materials.Maxwell(young=E, relaxation_time=1.0, poisson=NU), indenter=ball,
+                      schedule=static, inclusions=body)
     with pytest.raises(ParameterError, match="Static and Eccentric schedules"):
         fw.Simulation(grid=grid, material=materials.Elastic(E, NU), indenter=ball, inclusions=body,
                       schedule=schedules.Rolling(load=40.0, velocity=(1.0, 0.0), distance=0.1e-3))

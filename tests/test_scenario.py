@@ -395,9 +395,10 @@ def test_bad_inclusion_tables_are_named(capsys, tmp_path, text, message):
     refused(capsys, tmp_path, LAYERED + text, r"bad.toml: " + message)
 
 
-def test_inclusions_need_an_elastic_matrix(capsys, tmp_path):
-    text = LAYERED.replace('type = "Elastic"\nyoung = 200e9\npoisson = 0.3', 'preset = "PMMA"') + INCLUSION
-    refused(capsys, tmp_path, text, r"bad.toml: inclusions need an elastic matrix")
+def test_inclusions_need_an_elastic_or_viscoelastic_solid_matrix(capsys, tmp_path):
+    text = LAYERED.replace('type = "Elastic"\nyoung = 200e9\npoisson = 0.3',
+                           'type = "Maxwell"\nyoung = 200e9\nrelaxation_time = 1.0\npoisson = 0.3') + INCLUSION
+    refused(capsys, tmp_path, text, r"bad.toml: inclusions need an elastic matrix or a viscoelastic solid")
 
 
 def test_run_with_inclusions_shows_the_couplings(capsys, tmp_path):

@@ -1,20 +1,59 @@
 """Contact and inhomogeneities in one step: pressure -> stress at the inhomogeneities -> eigenstrains
--> surface displacement -> contact, to a fixed point (THEORY.md sec. 8)."""
+-> surface displacement -> contact, to a fixed point (THEORY.md sec. 8).
+
+A viscoelastic matrix (constant Poisson ratio) keeps the eigenstrain operators instantaneous: the
+strain an eigenstrain causes in the homogeneous body does not depend on the modulus. What has
+memory is, on the box around the inhomogeneities (tensor shears, ``C_bar`` the unit-modulus
+stiffness, ``S p`` the contact stress, modulus-free):
+
+- the strain of the homogeneous half-space under the contact, ``e0 = C_bar^-1 (J * d[S p])``
+  (creep compliance ``J``);
+- the matrix stress of the equivalent body, ``s_M = S p + R * d[C_bar (D[e*] - e*)]`` (relaxation
+  modulus ``R``).
+
+Both hereditary integrals are carried by Prony recursions (:class:`framework.history.PronyRecursion`,
+or the full sum with ``options={"history": "hereditary"}``) with the fields ``S p`` and
+``C_bar (D[e*] - e*)`` linear within a step: each step is an elastic equivalent-inclusion problem
+with the matrix modulus ``R_eff`` (the mean of ``R`` over the step) and a known history stress,
+``(C_I - R_eff C_bar) D[e*] + R_eff C_bar e* = S p + s_hist - C_I e0``. Memory per step: one
+``(m1, m2, m3, 6)`` field per creep term and per relaxation term, plus the last two fields.
+"""
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..operators.eigenstrain import strain_from_stress
+from ..history import HereditarySum, PronyRecursion
+from ..materials import ComplianceSeries, Elastic
+from ..operators.eigenstrain import MANDEL, stress_from_strain, strain_from_stress
 from ..operators.stress import SubsurfaceStress
+
+
+def matrix_series(matrix):
+    """Creep compliance ``J`` and relaxation modulus ``R`` of the matrix as Prony sums ``c0 + sum c_k (1 - e^-t/l_k)``.
+
+    ``R(t) = E(0) - sum E_i (1 - exp(-t/tau_i))``: the same form with negative coefficients, so
+    one recursion serves both.
+    """
+    if isinstance(matrix, Elastic):
+        return ComplianceSeries(c0=1.0 / matrix.young), ComplianceSeries(c0=matrix.young)
+    j0, creep = matrix.creep_terms
+    _, relaxation = matrix.relaxation_terms
+    return (ComplianceSeries(c0=j0, terms=tuple(creep)),
+            ComplianceSeries(c0=matrix.instantaneous_modulus, terms=tuple((-e, tau) for e, tau in relaxation)))
 
 
 @dataclass
 class CoupledStep:
-    """One converged step: the contact solution, the eigenstrain solution and the fixed-point count."""
+    """One converged step: the contact solution, the eigenstrain fields and the fixed-point count.
+
+    ``eigenstrain`` and ``stress`` are box fields ``(m1, m2, m3, 6)`` (tensor shears; the total
+    stress [Pa]); ``displacement`` the eigenstrains' surface displacement the contact saw.
+    """
 
     contact: object
-    inclusions: object
+    eigenstrain: np.ndarray
+    stress: np.ndarray
     displacement: np.ndarray
     couplings: int
     change: float
@@ -46,23 +85,55 @@ class ContactCoupling:
         Fixed-point iterations before giving up.
     """
 
-    def __init__(self, problem, tolerance=1e-8, inclusion_tolerance=1e-10, max_couplings=100):
+    def __init__(self, problem, tolerance=1e-8, inclusion_tolerance=1e-10, max_couplings=100, history="recursive"):
         self.problem = problem
         self.tolerance, self.inclusion_tolerance, self.max_couplings = tolerance, inclusion_tolerance, max_couplings
         self._stress = SubsurfaceStress(problem.grid, problem.matrix.poisson)
+        integrator = PronyRecursion if history == "recursive" else HereditarySum
+        creep, relaxation = matrix_series(problem.matrix)
+        shape = (*problem.shape, 6)
+        self._creep, self._relaxation = integrator(creep, shape), integrator(relaxation, shape)
         self.eigenstrain = None     # the last step's, to start the next one from
         self.displacement = 0.0
 
-    def applied_strain(self, pressure):
-        """Strain ``(m1, m2, m3, 6)`` of the homogeneous half-space under ``pressure`` on the box."""
-        problem = self.problem
-        stress = self._stress.apply(pressure, problem.operator.depths)[problem.box[:2]]
-        return strain_from_stress(stress, problem.matrix.poisson, problem.matrix.young)
+    def prepare(self, time):
+        """Set up the step to ``time`` [s]: the matrix's effective modulus and its history stresses."""
+        self._compliance, self._creep_history = self._creep.prepare(time)
+        self._modulus, self._relaxation_history = self._relaxation.prepare(time)
+        self.problem.problem.set_modulus(self._modulus)
+        self._time = time
+
+    def commit(self, step):
+        """Remember the converged step (its contact stress and equivalent-body field)."""
+        self._creep.commit(self._time, step.contact_stress)
+        self._relaxation.commit(self._time, step.field)
+
+    def _fields(self, pressure, initial, tolerance):
+        """Eigenstrains, total stress and the fields to commit for one contact pressure."""
+        problem, nu = self.problem, self.problem.matrix.poisson
+        inner = problem.problem
+        contact_stress = self._stress.apply(pressure, problem.operator.depths)[problem.box[:2]]
+        creep = self._compliance * contact_stress
+        if self._creep_history is not None:
+            creep = creep + self._creep_history
+        strain0 = strain_from_stress(creep, nu)                   # e0 (unit-modulus compliance times J)
+        matrix_stress = contact_stress if self._relaxation_history is None \
+            else contact_stress + self._relaxation_history
+        cells = inner.cells
+        right = (matrix_stress[cells] * MANDEL
+                 - inner._per_material(inner.stiffness, strain0[cells] * MANDEL))
+        eigenstrain, disturbance, iterations, _, _ = inner.solve_for(right, initial=initial, tolerance=tolerance)
+        field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
+        stress = matrix_stress + self._modulus * field
+        strain = strain0 + disturbance
+        stress[cells] = inner._per_material(inner.stiffness, strain[cells] * MANDEL) / MANDEL
+        return eigenstrain, stress, contact_stress, field
 
     def solve(self, solve_contact):
         """Converge one step; ``solve_contact(extra_displacement)`` solves the contact with that displacement added.
 
-        The fixed point ``u -> F(u)`` (``u`` the eigenstrains' surface displacement) is
+        Call :meth:`prepare` before and :meth:`commit` (with the returned step) after. The
+        fixed point ``u -> F(u)`` (``u`` the eigenstrains' surface displacement) is
         accelerated by Anderson mixing over the last :data:`ANDERSON_DEPTH` iterates (Walker &
         Ni 2011), and each equivalent-inclusion solve is inexact: to 1 % of the current
         change, between ``inclusion_tolerance`` and 1e-3 (Krylov iterations are not spent on
@@ -75,17 +146,18 @@ class ContactCoupling:
         for count in range(1, self.max_couplings + 1):
             contact = solve_contact(displacement)
             tolerance = min(1e-3, max(self.inclusion_tolerance, 1e-2 * change))
-            solution = problem.problem.solve(self.applied_strain(contact.pressure), initial=self.eigenstrain,
-                                             tolerance=tolerance)
-            self.eigenstrain = solution.eigenstrain
-            image = problem.operator.surface_displacement(solution.eigenstrain)
+            eigenstrain, stress, contact_stress, field = self._fields(contact.pressure, self.eigenstrain, tolerance)
+            self.eigenstrain = eigenstrain
+            image = problem.operator.surface_displacement(eigenstrain)
             residual = image - displacement
             scale = max(np.abs(contact.displacement).max(), np.abs(image).max(), 1e-300)
             change = float(np.abs(residual).max() / scale)
             if change <= self.tolerance:
                 self.displacement = image
                 # the contact saw ``displacement``; the eigenstrains answer its pressure: consistent to the tolerance
-                return CoupledStep(contact, solution, displacement, count, change)
+                step = CoupledStep(contact, eigenstrain, stress, displacement, count, change)
+                step.contact_stress, step.field = contact_stress, field
+                return step
             residuals.append(residual.ravel())
             images.append(image.ravel())
             del residuals[:-ANDERSON_DEPTH - 1], images[:-ANDERSON_DEPTH - 1]
@@ -93,6 +165,21 @@ class ContactCoupling:
         raise ConvergenceError(f"contact and inhomogeneities did not converge in {self.max_couplings} coupling "
                                f"iterations: the eigenstrains' surface displacement still changes by {change:.3g} of "
                                f"the surface displacement, tolerance {self.tolerance:g}")
+
+    def snapshot(self):
+        """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
+        out = {"inclusion_eigenstrain": self.eigenstrain}
+        for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
+            out.update({f"inclusion_{name}_{key}": value for key, value in integrator.snapshot().items()})
+        return out
+
+    def restore(self, snapshot):
+        """Continue from :meth:`snapshot`'s arrays."""
+        self.eigenstrain = snapshot["inclusion_eigenstrain"]
+        self.displacement = self.problem.operator.surface_displacement(self.eigenstrain)
+        for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
+            prefix = f"inclusion_{name}_"
+            integrator.restore({key[len(prefix):]: value for key, value in snapshot.items() if key.startswith(prefix)})
 
 
 #: Iterates the Anderson mixing of the coupling remembers.

@@ -108,11 +108,19 @@ class EquivalentInclusionProblem:
         self.indicator = indicator
         self.cells = np.nonzero(indicator)
         self.material = indicator[self.cells] - 1
-        self.matrix = isotropic_mandel(young, operator.poisson)
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
+        self._local = cuboid_self_strain(operator.spacing, operator.poisson)
+        self.young = None
+        self.set_modulus(young)
+
+    def set_modulus(self, young):
+        """Give the matrix the Young's modulus ``young`` [Pa] (a viscoelastic matrix's effective one of a step)."""
+        if young == self.young:
+            return
+        self.young = young
+        self.matrix = isotropic_mandel(young, self.operator.poisson)
         self.contrast = [c - self.matrix for c in self.stiffness]
-        local = cuboid_self_strain(operator.spacing, operator.poisson)
-        self._preconditioner = [np.linalg.inv(d @ local + self.matrix) for d in self.contrast]
+        self._preconditioner = [np.linalg.inv(d @ self._local + self.matrix) for d in self.contrast]
 
     @property
     def size(self):
@@ -155,13 +163,23 @@ class EquivalentInclusionProblem:
         """
         shape = (*self.operator.shape, 6)
         applied = np.broadcast_to(np.asarray(applied_strain, dtype=float), shape)
-        strain0 = applied[self.cells] * MANDEL
-        right = -self._per_material(self.contrast, strain0)
+        right = -self._per_material(self.contrast, applied[self.cells] * MANDEL)
+        eigenstrain, disturbance, iterations, residual, success = self.solve_for(
+            right, initial=initial, tolerance=tolerance, max_iterations=max_iterations,
+            raise_on_failure=raise_on_failure)
+        return self._solution(eigenstrain, applied, iterations, residual, success, disturbance)
+
+    def solve_for(self, right, initial=None, tolerance=1e-10, max_iterations=500, raise_on_failure=True):
+        """Solve ``(C_I - C_M) D[e*] + C_M e* = right`` for any right-hand side (Mandel, ``(N, 6)``).
+
+        Returns ``(eigenstrain, disturbance, iterations, residual, success)``: the box fields
+        ``e*`` and ``D[e*]`` (tensor shears), the GMRES count, the relative residual, convergence.
+        """
+        shape = (*self.operator.shape, 6)
         n = self.size
         scale = np.linalg.norm(right)
         if n == 0 or scale == 0.0:
-            zero = np.zeros(shape)
-            return self._solution(zero, applied, 0, 0.0, True)
+            return np.zeros(shape), 0.0, 0, 0.0, True
         start = None if initial is None else (np.asarray(initial, dtype=float)[self.cells] * MANDEL).ravel()
 
         def preconditioned(x):
@@ -188,7 +206,7 @@ class EquivalentInclusionProblem:
         if not success and raise_on_failure:
             raise ConvergenceError(f"the equivalent-inclusion solve stopped after {count[0]} GMRES iterations at "
                                    f"relative residual {precond_residual:.3g}, tolerance {tolerance:g}")
-        return self._solution(eigenstrain, applied, count[0], residual, success, disturbance)
+        return eigenstrain, disturbance, count[0], residual, success
 
     def _solution(self, eigenstrain, applied, iterations, residual, success, disturbance=0.0):
         strain = applied + disturbance

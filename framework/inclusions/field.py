@@ -3,7 +3,7 @@ import numpy as np
 
 from .._validation import check_finite_array
 from ..errors import ParameterError, ShapeError
-from ..materials import Elastic
+from ..materials import Elastic, Viscoelastic
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
 from .equivalent import MANDEL, EquivalentInclusionProblem
 
@@ -12,6 +12,11 @@ from .equivalent import MANDEL, EquivalentInclusionProblem
 #: eigenvalue about 1.2 (a continuous operator's lie in [0, 1]); below ratio 1 - 1/1.2 the
 #: equivalent-inclusion system becomes singular, and near it GMRES stalls.
 MIN_STIFFNESS_RATIO = 0.25
+
+
+def instantaneous(matrix):
+    """Young's modulus of the matrix at the instant of loading [Pa] (the glassy one of a viscoelastic solid)."""
+    return matrix.young if isinstance(matrix, Elastic) else matrix.instantaneous_modulus
 
 
 def inclusion_box(grid, inclusions, margin=0.0):
@@ -66,8 +71,10 @@ class InclusionProblem:
     ----------
     grid : framework.Grid
         Open grid with layers: the inhomogeneities must lie inside its subsurface box.
-    matrix : framework.materials.Elastic
-        The half-space.
+    matrix : framework.materials.Elastic or framework.materials.Viscoelastic
+        The half-space (a viscoelastic one with a constant Poisson ratio: the system is
+        built with its instantaneous modulus, and :class:`~framework.inclusions.coupling.ContactCoupling`
+        gives it each step's effective modulus).
     inclusions : framework.inclusions.InclusionSet
         The inhomogeneities.
     margin : float
@@ -76,8 +83,9 @@ class InclusionProblem:
     """
 
     def __init__(self, grid, matrix, inclusions, margin=0.0):
-        if not isinstance(matrix, Elastic):
-            raise ParameterError(f"matrix must be a framework.materials.Elastic, got {type(matrix).__name__}")
+        if not isinstance(matrix, (Elastic, Viscoelastic)):
+            raise ParameterError(f"matrix must be a framework.materials.Elastic or Viscoelastic (a solid with an "
+                                 f"instantaneous modulus), got {type(matrix).__name__}")
         inclusions.check_inside(grid)
         if len(inclusions) == 0:
             raise ParameterError("inclusions is empty: give at least one inhomogeneity")
@@ -87,7 +95,7 @@ class InclusionProblem:
         self.indicator = inclusions.indicator(*self.coordinates)
         stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, self.start, self.shape)
-        self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, matrix.young)
+        self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, instantaneous(matrix))
         for k, stiffness in enumerate(self.problem.stiffness):
             ratio = stiffness_ratio(stiffness, self.problem.matrix)
             if ratio < MIN_STIFFNESS_RATIO:
@@ -194,6 +202,9 @@ def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, 
     InclusionSolution
     """
     from .bodies import InclusionSet
+    if not isinstance(matrix, Elastic):
+        raise ParameterError(f"matrix must be a framework.materials.Elastic (a uniform applied strain has no time "
+                             f"history), got {type(matrix).__name__}")
     if not isinstance(inclusions, InclusionSet):
         inclusions = InclusionSet(inclusions)
     applied = strain_vector(applied_strain, name="applied_strain")
