@@ -52,7 +52,7 @@ READABLE = (1, 2, 3)
 SERIES = ("index", "time", "load", "approach", "iterations", "residual", "success", "tilt")
 FIELDS = ("pressure", "displacement", "gap")
 #: Written only for a run with inhomogeneities (all its records carry them).
-INCLUSION_SERIES = ("couplings",)
+INCLUSION_SERIES = ("couplings", "inclusion_start")
 INCLUSION_FIELDS = ("eigenstrain", "inclusion_stress")
 
 
@@ -283,7 +283,8 @@ def read(path, *, name="path"):
             series = {key: reader.dataset(f"series/{key}") for key in SERIES}
             fields = {key: reader.dataset(f"fields/{key}") for key in FIELDS}
             if reader.format >= 3 and "fields/eigenstrain" in f:  # a run with inhomogeneities
-                series.update({key: reader.dataset(f"series/{key}") for key in INCLUSION_SERIES})
+                series.update({key: reader.dataset(f"series/{key}") for key in INCLUSION_SERIES
+                               if f"series/{key}" in f})
                 fields.update({key: reader.dataset(f"fields/{key}") for key in INCLUSION_FIELDS})
             state = None
             if "state" in f:
@@ -302,7 +303,9 @@ def read(path, *, name="path"):
                           success=bool(series["success"][k]), tilt=tuple(series["tilt"][k]),
                           **({} if "eigenstrain" not in fields else dict(
                               eigenstrain=fields["eigenstrain"][k], inclusion_stress=fields["inclusion_stress"][k],
-                              couplings=int(series["couplings"][k]))))
+                              couplings=int(series["couplings"][k]),
+                              inclusion_start=(tuple(int(v) for v in series["inclusion_start"][k])
+                                               if "inclusion_start" in series else None))))
                for k in range(steps)]
     return configuration, records, state
 

@@ -28,6 +28,7 @@ class StepRecord:
     eigenstrain: np.ndarray = None        # (m1, m2, m3, 6) on the inhomogeneities' box, tensor shears
     inclusion_stress: np.ndarray = None   # (m1, m2, m3, 6) total stress [Pa] on that box
     couplings: int = 0                    # fixed-point iterations between contact and inhomogeneities
+    inclusion_start: tuple = None         # first cuboid of that box on the grid (it moves when rolling)
 
 
 #: SI unit of each series of :meth:`Result.summary` (``summary.csv`` writes them in its header).
@@ -244,7 +245,7 @@ class Result:
         if key != record.index:
             value = self._operator().apply(record.pressure)
             if record.inclusion_stress is not None:
-                value[self._inclusion_box()] = record.inclusion_stress
+                value[self._inclusion_box(record)] = record.inclusion_stress
             self._stress_cache = (record.index, value)
         return value
 
@@ -259,8 +260,10 @@ class Result:
             self._inclusion_problem = InclusionProblem(self.grid, self.material, self.inclusions, margin=margin)
         return self._inclusion_problem
 
-    def _inclusion_box(self):
-        return self._inclusions_problem().box
+    def _inclusion_box(self, record):
+        problem = self._inclusions_problem()
+        start = problem.start if record.inclusion_start is None else record.inclusion_start
+        return tuple(slice(s, s + m) for s, m in zip(start, problem.shape))
 
     def eigenstrain(self, step):
         """Equivalent eigenstrain of the inhomogeneities, shape (n1, n2, layers, 6), tensor shears, Voigt order.
@@ -270,13 +273,13 @@ class Result:
         record = self._record(step)
         if record.eigenstrain is None:
             raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
-        return self._inclusions_problem().on_grid(record.eigenstrain)
+        return self._inclusions_problem().on_grid(record.eigenstrain, record.inclusion_start)
 
     def inhomogeneity(self, step):
         """Indicator of the inhomogeneities on the cuboids, shape (n1, n2, layers): 0 matrix, k + 1 the k-th."""
-        self._record(step)
+        record = self._record(step)
         problem = self._inclusions_problem()
-        return problem.on_grid(problem.indicator)
+        return problem.on_grid(problem.indicator, record.inclusion_start)
 
     def von_mises(self, step):
         """Von Mises equivalent stress [Pa], shape (n1, n2, layers)."""
@@ -320,6 +323,9 @@ class Result:
         if record.eigenstrain is not None:
             from .materials import Elastic
             from .operators.eigenstrain import strain_from_stress
+            if getattr(self.schedule, "direction", None) is not None:
+                raise ParameterError("stress_at: with inhomogeneities under a rolling body the stress around them "
+                                     "is kept on the cuboids only; read Result.stress(step) instead")
             if not isinstance(self.material, Elastic):
                 raise ParameterError("stress_at: with inhomogeneities in a viscoelastic matrix the stress around "
                                      "them depends on the history of their fields, kept on the cuboids only; read "

@@ -247,8 +247,8 @@ class Simulation:
         self.grid, self.material, self.indenter, self.schedule = grid, material, indenter, schedule
         self.options = Options.from_value(options)
         self.result = None
-        self.inclusions = self._check_inclusions(inclusions)
         self._check()
+        self.inclusions = self._check_inclusions(inclusions)
 
     def _check_inclusions(self, inclusions):
         """The inhomogeneities as an InclusionSet with their operators built (None without any)."""
@@ -267,12 +267,18 @@ class Simulation:
             raise ParameterError(f"inclusions need an elastic matrix or a viscoelastic solid with an instantaneous "
                                  f"modulus (materials.Elastic or materials.Viscoelastic, e.g. StandardLinearSolid, "
                                  f"PMMA), got {type(self.material).__name__}")
+        travel = None
         if isinstance(self.schedule, schedules.Rolling):
-            raise ParameterError("inclusions work with Static and Eccentric schedules in this version, got Rolling")
+            if self.schedule.steady:
+                raise ParameterError("inclusions: a steady rolling state does not exist over a single inhomogeneity "
+                                     "(the contact changes as the body passes it); roll over it in a transient run "
+                                     "(steady=False, with a distance)")
+            travel = [station.shift for station in self._timeline]
         margin = self.options.inclusion_margin
         if margin is None:
             margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in inclusions)
-        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, margin=margin)
+        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, margin=margin,
+                                                   travel=travel)
         return inclusions
 
     def _check(self):
@@ -381,6 +387,8 @@ class Simulation:
             if number < start:
                 continue
             integrator.translate(station.shift, grid.periodic)
+            if coupling is not None:
+                coupling.problem.move(station.shift)     # the inhomogeneities ride with the material
             compliance, memory = integrator.prepare(station.time)
             history_displacement = 0.0 if memory is None else operator.apply(memory)
             arguments = dict(cell_area=grid.cell_area, initial=integrator.pressure, options=options.solver,
@@ -414,8 +422,8 @@ class Simulation:
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
                                  success=solution.success, tilt=tuple(np.arctan(solution.slopes)),
                                  **({} if coupling is None else dict(
-                                     eigenstrain=coupled.eigenstrain,
-                                     inclusion_stress=coupled.stress, couplings=coupled.couplings)))
+                                     eigenstrain=coupled.eigenstrain, inclusion_stress=coupled.stress,
+                                     couplings=coupled.couplings, inclusion_start=coupling.problem.start)))
                 index += 1
 
     def run(self, progress=False, callback=None, checkpoint=None, every=10, resume=None):

@@ -2,7 +2,7 @@
 import numpy as np
 
 from .._validation import check_finite_array
-from ..errors import ParameterError, ShapeError
+from ..errors import InclusionError, ParameterError, ShapeError
 from ..materials import Elastic, Viscoelastic
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
 from .equivalent import MANDEL, EquivalentInclusionProblem
@@ -80,9 +80,12 @@ class InclusionProblem:
     margin : float
         Distance [m] the box extends beyond the inhomogeneities, where the total
         stress (with the eigenstrains' fields) is computed for the outputs.
+    travel : sequence of (int, int), optional
+        The whole-cell shifts of the material at each step of a rolling run: the box
+        moves with them, and must stay on the grid all the way.
     """
 
-    def __init__(self, grid, matrix, inclusions, margin=0.0):
+    def __init__(self, grid, matrix, inclusions, margin=0.0, travel=None):
         if not isinstance(matrix, (Elastic, Viscoelastic)):
             raise ParameterError(f"matrix must be a framework.materials.Elastic or Viscoelastic (a solid with an "
                                  f"instantaneous modulus), got {type(matrix).__name__}")
@@ -94,7 +97,10 @@ class InclusionProblem:
         self.coordinates = box_coordinates(grid, self.start, self.shape)
         self.indicator = inclusions.indicator(*self.coordinates)
         stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
-        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, self.start, self.shape)
+        if travel is not None:
+            self._check_travel(travel)
+        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, self.start, self.shape,
+                                             whole_patch=travel is not None)
         self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, instantaneous(matrix))
         for k, stiffness in enumerate(self.problem.stiffness):
             ratio = stiffness_ratio(stiffness, self.problem.matrix)
@@ -106,15 +112,40 @@ class InclusionProblem:
             if not np.any(self.indicator == k + 1):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
 
+    def _check_travel(self, travel):
+        """The box must stay on the grid while the material carries it (a rolling run), checked before any step."""
+        position = np.array(self.start[:2])
+        for cells in travel:
+            position = position + cells
+            for axis in range(2):
+                if position[axis] < 0 or position[axis] + self.shape[axis] > self.grid.shape[axis]:
+                    spacing = self.grid.spacing[axis]
+                    raise InclusionError(
+                        f"inclusions: the material carries the inhomogeneities (and the box of "
+                        f"{self.shape[axis]} cells around them) off the grid along x{axis + 1} after "
+                        f"{abs(position[axis] - self.start[axis]) * spacing:.4g} m of motion; expected them to "
+                        f"stay on the grid for the whole run: lengthen grid.size[{axis}], shorten the distance or "
+                        f"start them further ahead")
+
     @property
     def box(self):
-        """Slices of the box in the grid's ``(n1, n2, layers)`` arrays."""
+        """Slices of the box in the grid's ``(n1, n2, layers)`` arrays (where it lies now)."""
         return tuple(slice(s, s + m) for s, m in zip(self.start, self.shape))
 
-    def on_grid(self, field):
-        """A box field ``(m1, m2, m3, ...)`` placed in a zero grid field ``(n1, n2, layers, ...)``."""
+    def move(self, cells):
+        """Move the inhomogeneities and their box with the material by ``cells = (c1, c2)`` whole cells."""
+        if any(cells):
+            self.operator.move(cells)
+            self.start = self.operator.start
+
+    def on_grid(self, field, start=None):
+        """A box field ``(m1, m2, m3, ...)`` placed in a zero grid field ``(n1, n2, layers, ...)``.
+
+        ``start`` is where the box lay (a record of a rolling run), by default where it lies now.
+        """
+        start = self.start if start is None else start
         out = np.zeros((*self.grid.shape, self.grid.layers, *field.shape[3:]), dtype=field.dtype)
-        out[self.box] = field
+        out[tuple(slice(s, s + m) for s, m in zip(start, self.shape))] = field
         return out
 
     def stress_at(self, points, applied_strain, eigenstrain):

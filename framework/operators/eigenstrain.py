@@ -275,7 +275,7 @@ class HalfSpaceEigenstrain:
         Cuboids of the box along each axis.
     """
 
-    def __init__(self, grid, poisson, start, shape):
+    def __init__(self, grid, poisson, start, shape, whole_patch=False):
         if any(grid.periodic):
             raise ParameterError(f"the half-space eigenstrain operator needs an open grid, got periodic={grid.periodic}")
         if not grid.layers:
@@ -307,6 +307,8 @@ class HalfSpaceEigenstrain:
         reach = [int(np.ceil(PATCH_DEPTHS * (start[2] + shape[2]) * self.spacing[2] / h)) for h in grid.spacing]
         low = [max(0, start[a] - reach[a]) for a in range(2)]
         high = [min(grid.shape[a], start[a] + shape[a] + reach[a]) for a in range(2)]
+        if whole_patch:        # a box that moves over the grid (rolling) keeps the grid as its patch
+            low, high = [0, 0], list(grid.shape)
         self.patch = tuple(slice(lo, hi) for lo, hi in zip(low, high))
         self._patch_grid = Grid(shape=(high[0] - low[0], high[1] - low[1]),
                                 size=((high[0] - low[0]) * grid.spacing[0], (high[1] - low[1]) * grid.spacing[1]))
@@ -409,6 +411,25 @@ class HalfSpaceEigenstrain:
     def box(self):
         """Slices of the box in the grid's ``(n1, n2, layers)`` arrays."""
         return tuple(slice(s, s + m) for s, m in zip(self.start, self.shape))
+
+    def move(self, cells):
+        """Move the box by ``cells = (c1, c2)`` whole surface cells (the material moved under a rolling body).
+
+        The kernels do not depend on where the box lies on the grid, only the footprint
+        does; the surface patch must be the whole grid (``whole_patch=True``).
+        """
+        if not any(cells):
+            return
+        if self.patch != (slice(0, self.grid.shape[0]), slice(0, self.grid.shape[1])):
+            raise ParameterError("move: this operator's surface patch is not the whole grid (build it with "
+                                 "whole_patch=True to move it)")
+        start = (self.start[0] + cells[0], self.start[1] + cells[1], self.start[2])
+        for axis in range(2):
+            if start[axis] < 0 or start[axis] + self.shape[axis] > self.grid.shape[axis]:
+                raise ParameterError(f"move: the box would leave the grid along x{axis + 1} (cuboids {start[axis]} .. "
+                                     f"{start[axis] + self.shape[axis] - 1} of 0 .. {self.grid.shape[axis] - 1})")
+        self.start = start
+        self._footprint = (slice(start[0], start[0] + self.shape[0]), slice(start[1], start[1] + self.shape[1]))
 
     def strain(self, eigenstrain):
         """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
