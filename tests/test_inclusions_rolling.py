@@ -72,3 +72,24 @@ def test_results_with_rolling_inhomogeneities_round_trip(stiff, tmp_path):
         assert np.array_equal(loaded.eigenstrain(step), stiff.eigenstrain(step))
         assert np.array_equal(loaded.inhomogeneity(step), stiff.inhomogeneity(step))
         assert np.array_equal(loaded.stress(step), stiff.stress(step))
+
+
+def test_slice_pictures_draw_the_inhomogeneity_where_the_material_carried_it(stiff, tmp_path):
+    """Body-frame pictures: the outline moves back by the distance rolled (0.4 mm between steps 8 and 24)."""
+    import copy
+    import matplotlib.image
+    viz = pytest.importorskip("viz")
+    plain = copy.copy(stiff)
+    plain.inclusions = None
+    centres = []
+    for step in (8, 24):
+        drawn = viz.render(stiff, tmp_path / f"with{step}.png", "von_mises", step, kind="slice")
+        viz.render(plain, tmp_path / f"without{step}.png", "von_mises", step, kind="slice", clim=drawn.clim)
+        image = matplotlib.image.imread(tmp_path / f"with{step}.png")[..., :3]
+        other = matplotlib.image.imread(tmp_path / f"without{step}.png")[..., :3]
+        outline = np.any(np.abs(image - other) > 0.1, axis=-1) & (image.max(axis=-1) < 0.15)
+        assert outline.sum() > 100
+        centres.append(np.argwhere(outline)[:, 1].mean())
+    width = 1e-3 * 0.4 / (64 * CELL)                 # the rolled distance as a fraction of the grid's length
+    # the grid spans ~800 of the 1200 pixels: a shift of ~200 pixels; ask for more than 125
+    assert centres[0] - centres[1] > 0.5 * width * 1000

@@ -455,7 +455,8 @@ def inclusion_mesh(inclusions, resolution=48):
     its volume falls short of ``4/3 pi a1 a2 a3`` by a relative ``O(resolution^-2)``
     (0.75 % at 48). Triangles are counter-clockwise seen from outside (normals
     point out of the inhomogeneity). The inhomogeneities are material points:
-    the same in the material frame at every step (their runs do not roll).
+    the same in the material frame at every step (where the files are drawn);
+    a rolling run's pictures, in the body's frame, move them by ``-position``.
 
     Cell data: ``inhomogeneity`` (int32), ``k + 1`` on the ``k``-th ellipsoid
     (the indicator of :func:`volume_mesh`); ``young`` [Pa] and ``poisson``

@@ -423,7 +423,7 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
         actor = plotter.add_mesh(mesh, lighting=False, **options)
         # view_xz looks from -x2, view_yz from +x1
         # cut through the centres of the drawn cells, the plane the title names
-        _inclusions(plotter, result, length_scale, plane, _centres(grid, plane)[index],
+        _inclusions(plotter, result, k, length_scale, plane, _centres(grid, plane)[index],
                     toward=-1 if plane == "x2" else 1, surfaces=False, at=origin)
         if plane == "x2":
             plotter.view_xz()
@@ -436,7 +436,7 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
     else:
         actor = plotter.add_mesh(mesh, ambient=0.6, diffuse=0.45, specular=0.0, **options)
         # the camera looks at the cut face from the removed side (-x2, resp. -x1)
-        _inclusions(plotter, result, length_scale, plane, _corners(grid, plane)[index], toward=-1, surfaces=True)
+        _inclusions(plotter, result, k, length_scale, plane, _corners(grid, plane)[index], toward=-1, surfaces=True)
         _camera_3d(plotter, mesh, azimuth=-55 if plane == "x2" else -145, elevation=25, zoom=0.95)
         axes = {0: "x1", 1: "x2", 2: "z"}
     axis_labels = overlay.axes(mesh.bounds, {a: f"{name} [{length_unit}]" for a, name in axes.items()},
@@ -820,8 +820,11 @@ def _contact_outline(plotter, result, k, length_scale):
         plotter.add_mesh(outline, color="white", line_width=3, lighting=False, label="contact edge")
 
 
-def _inclusions(plotter, result, length_scale, plane, cut, toward, surfaces, at=None):
-    """The inhomogeneities of a slice picture: their section by the plane ``plane = cut`` [m] as black curves.
+def _inclusions(plotter, result, k, length_scale, plane, cut, toward, surfaces, at=None):
+    """The inhomogeneities of step ``k``'s slice picture: their section by the plane ``plane = cut`` [m] as black curves.
+
+    They are material points: under a rolling body (pictures in the body's frame) they
+    lie ``result.position[k]`` behind where they started.
 
     The curves are drawn in the plane ``plane = at`` (default ``cut``: that
     of the coloured cells) moved off it by 0.1 % of the grid side ``toward``
@@ -832,6 +835,7 @@ def _inclusions(plotter, result, length_scale, plane, cut, toward, surfaces, at=
     if not getattr(result, "inclusions", None):
         return
     mesh = meshes.inclusion_mesh(result.inclusions)
+    mesh.points[:, :2] -= np.asarray(result.position[k], dtype=float)
     mesh.points[:] /= length_scale
     axis = 1 if plane == "x2" else 0
     origin = np.zeros(3)
