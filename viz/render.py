@@ -315,12 +315,28 @@ def shown_values(result, k, kind, field, *, plane="x2", origin=0.0, clip=False):
     return values[index:] if clip else values[index]
 
 
-def _check(kind, field):
+def check_picture(result, kind, field, *, plane="x2", origin=0.0, warp=None):
+    """The field a picture shows (``field`` or the kind's default) once the picture's options are valid.
+
+    Parameters are those of :func:`render`. Raises ParameterError naming the
+    first bad one: ``kind``, ``field``, ``plane``, ``origin``, ``warp``, or a
+    slice of a grid without layers.
+    """
     if kind not in KINDS:
         raise ParameterError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     field = DEFAULT_FIELD[kind] if field is None else field
     if field not in KINDS[kind]:
         raise ParameterError(f"unknown field {field!r} for kind={kind!r}; choose one of {list(KINDS[kind])}")
+    if plane not in ("x1", "x2"):
+        raise ParameterError(f"plane must be 'x1' or 'x2' (the slice normal), got {plane!r}")
+    if kind == "slice":
+        if not result.grid.layers:
+            raise ParameterError("kind='slice' needs subsurface layers: the grid has layers=0; "
+                                 "give Grid(..., depth=..., layers=...)")
+        _plane_index(result.grid, plane, origin)
+    if warp is not None and not (isinstance(warp, (int, float, np.number)) and not isinstance(warp, bool)
+                                 and np.isfinite(warp) and warp > 0):
+        raise ParameterError(f"warp must be a positive finite exaggeration factor, got {warp!r}")
     return field
 
 
@@ -416,13 +432,8 @@ def draw(result, field=None, step=-1, *, kind="map", clim=None, cmap=None, warp=
     rendering : Rendering
         What is drawn, with ``path`` None.
     """
-    field = _check(kind, field)
+    field = check_picture(result, kind, field, plane=plane, origin=origin, warp=warp)
     k = meshes.step_index(result, step)
-    if plane not in ("x1", "x2"):
-        raise ParameterError(f"plane must be 'x1' or 'x2' (the slice normal), got {plane!r}")
-    if kind == "slice" and not result.grid.layers:
-        raise ParameterError("kind='slice' needs subsurface layers: the grid has layers=0; "
-                             "give Grid(..., depth=..., layers=...)")
     pv = _deps.pyvista(rendering=True)
     grid = result.grid
     label, unit = KINDS[kind][field]
@@ -438,12 +449,7 @@ def draw(result, field=None, step=-1, *, kind="map", clim=None, cmap=None, warp=
     elif kind == "surface":
         u3 = np.asarray(result.displacement(k), dtype=float)
         deepest = float(np.max(np.abs(u3)))
-        if warp is not None:
-            if not (isinstance(warp, (int, float, np.number)) and np.isfinite(warp) and warp > 0):
-                raise ParameterError(f"warp must be a positive finite exaggeration factor, got {warp!r}")
-            warp_factor = float(warp)
-        else:
-            warp_factor = automatic_warp(grid, deepest)
+        warp_factor = automatic_warp(grid, deepest) if warp is None else float(warp)
         mesh = meshes.quad_mesh(grid, -warp_factor * meshes.corner_average(u3, grid.periodic))
         mesh.cell_data["values"] = meshes.cell_order(values)
         heading = f", deformation \u00d7{warp_factor:g}"
