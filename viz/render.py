@@ -96,6 +96,8 @@ class Rendering:
         Exaggeration of the deformation (``kind="surface"``), else None.
     cmap : str
         Colour map used.
+    title : str
+        The picture's title (lines joined by newlines).
     bar_title : str
         Title of the colour bar, the field's label and display unit.
     bar_labels : tuple of str
@@ -118,6 +120,7 @@ class Rendering:
     display_scale: float
     warp: float = None
     cmap: str = SEQUENTIAL
+    title: str = ""
     bar_title: str = ""
     bar_labels: tuple = ()
     axis_labels: dict = _field(default_factory=dict)
@@ -484,8 +487,8 @@ def draw(result, field=None, step=-1, *, kind="map", clim=None, cmap=None, warp=
     plotter = pv.Plotter(off_screen=True, window_size=tuple(int(w) for w in window_size))
     plotter.set_background("white")
     overlay = _Overlay(plotter, font_size)
-    lines = [title] if title else [f"{label}{heading}", _step_line(result, k, time)]
-    below_title = overlay.title("\n".join(lines))
+    title = title or f"{label}{heading}\n{_step_line(result, k, time)}"
+    below_title = overlay.title(title)
     options = dict(scalars="values", cmap=cmap, clim=(low, high), show_edges=False, show_scalar_bar=False,
                    n_colors=2 if field == "contact" else 256)
     # room at the top for the title and half a tick label, at the left and bottom for labels and axis titles
@@ -527,10 +530,11 @@ def draw(result, field=None, step=-1, *, kind="map", clim=None, cmap=None, warp=
                                frame=kind == "map" or (kind == "slice" and not clip))
     bar_labels = overlay.colour_bar(actor.mapper.lookup_table, low, high, bar_title, bar,
                                     ticks=(0.0, 1.0) if field == "contact" else None)
-    return plotter, Rendering(path=None, kind=kind, field=field, step=k, time=time, unit=unit, scalar_range=scalar_range,
-                     clim=used, display_unit=shown_unit, display_scale=scale, warp=warp_factor, cmap=cmap,
-                     bar_title=bar_title, bar_labels=bar_labels, axis_labels=axis_labels,
-                     label_boxes=list(overlay.label_boxes))
+    return plotter, Rendering(path=None, kind=kind, field=field, step=k, time=time, unit=unit,
+                              scalar_range=scalar_range, clim=used, display_unit=shown_unit, display_scale=scale,
+                              warp=warp_factor, cmap=cmap, title=title, bar_title=bar_title,
+                              bar_labels=bar_labels, axis_labels=axis_labels,
+                              label_boxes=list(overlay.label_boxes))
 
 
 @functools.lru_cache(maxsize=1)
