@@ -1,5 +1,6 @@
 """viz.animate: GIF and MP4 of a recorded series, one colour range for all frames, input checks, no half files."""
 import os
+import re
 import sys
 
 import numpy as np
@@ -196,3 +197,43 @@ def test_missing_mp4_writer_names_the_extra(static, tmp_path, monkeypatch):
     with pytest.raises(ImportError, match=r"'imageio_ffmpeg'.*pip install 'viscocontact\[viz\]'"):
         animate(static, tmp_path / "a.mp4")
     assert os.listdir(tmp_path) == []
+
+
+SCENARIO = """
+[grid]
+shape = [16, 16]
+size = [1e-3, 1e-3]
+[material]
+type = "Elastic"
+young = 1e9
+poisson = 0.3
+[indenter]
+type = "Sphere"
+radius = 5e-3
+[schedule]
+load = [0.5, 1.0, 2.0]
+[output]
+vtu = false
+"""
+
+
+def _cli(capsys, *args):
+    from framework.__main__ import main
+    code = main([str(a) for a in args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_cli_animates_a_field(capsys, tmp_path):
+    path = tmp_path / "press.toml"
+    path.write_text(SCENARIO)
+    code, out, err = _cli(capsys, "run", path, "--out", tmp_path / "out", "--quiet", "--animate", "gap")
+    assert code == 0, err
+    with Image.open(tmp_path / "out" / "gap.gif") as image:
+        assert image.n_frames == 3
+    assert "  1  gap.gif" in out
+    for field, message in [("strain", r"--animate: expected a surface field \['pressure'.*got 'strain'"),
+                           ("von_mises", r"--animate von_mises: a stress needs \[grid\] layers and depth")]:
+        code, _, err = _cli(capsys, "run", path, "--out", tmp_path / "bad", "--quiet", "--animate", field)
+        assert code == 2 and re.search(message, err), err
+        assert not (tmp_path / "bad").exists()
