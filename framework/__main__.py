@@ -1,6 +1,7 @@
 """Command line.
 
     python -m framework run SCENARIO.toml --out DIR     run a scenario file
+        [--animate FIELD]                                and animate a field over the steps (DIR/FIELD.gif)
     python -m framework demo [--out DIR]                 run the built-in default scenario
     python -m framework check SCENARIO.toml              check a scenario file without running it
     python -m framework sweep SWEEP.toml [--scheduler ADDRESS] [--folder DIR]
@@ -79,6 +80,20 @@ def _has_stresses(grid):
     return grid.layers > 0
 
 
+def animation_kind(field, grid):
+    """The picture kind of ``--animate FIELD``: ``map`` for a surface field, ``slice`` for a stress; or FrameworkError."""
+    _viz()
+    from viz.render import KINDS
+    if field in KINDS["map"]:
+        return "map"
+    if field not in KINDS["slice"]:
+        raise FrameworkError(f"--animate: expected a surface field {list(KINDS['map'])} or a stress "
+                             f"{list(KINDS['slice'])}, got {field!r}")
+    if not _has_stresses(grid):
+        raise FrameworkError(f"--animate {field}: a stress needs [grid] layers and depth, got layers = {grid.layers}")
+    return "slice"
+
+
 def check_output(scenario):
     """Check the names in ``[output]`` against what :mod:`viz` draws, before anything runs.
 
@@ -123,15 +138,18 @@ def prepare_folder(out, source):
     return marker
 
 
-def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
+def run_scenario(scenario, out, *, progress=True, resume=False, every=10, animate=None):
     """Run a parsed scenario, writing as each step finishes; returns (result, files written, seconds).
 
     ``checkpoint.h5`` is rewritten every ``every`` steps; at the end ``result.h5``
-    replaces it. ``resume`` continues from ``checkpoint.h5``.
+    replaces it. ``resume`` continues from ``checkpoint.h5``. ``animate``: a
+    field to animate over the steps into ``out/FIELD.gif`` (its pressure-map
+    or slice frames share one colour range, see :func:`viz.animate`).
     """
     output = scenario.output
-    viz = _viz() if output.vtu or output.pictures or output.history else None
+    viz = _viz() if output.vtu or output.pictures or output.history or animate else None
     check_output(scenario)
+    kind = animation_kind(animate, scenario.simulation.grid) if animate else None
     checkpoint = os.path.join(out, "checkpoint.h5")
     if resume and not os.path.isfile(checkpoint):
         raise FrameworkError(f"--resume: no checkpoint to resume in {out!r} (expected {checkpoint})")
@@ -175,6 +193,9 @@ def run_scenario(scenario, out, *, progress=True, resume=False, every=10):
     if output.history:
         written.append(os.path.join(out, "history.png"))
         viz.plot_history(result, written[-1], list(output.history))
+    if animate:
+        written.append(os.path.join(out, f"{animate}.gif"))
+        viz.animate(result, written[-1], animate, kind=kind)
     os.remove(marker)
     return result, sorted(set(written)), elapsed
 
@@ -248,6 +269,10 @@ def _main(argv):
         command.add_argument("--quiet", action="store_true", help="no progress lines")
     run.add_argument("--resume", action="store_true", help="continue a killed run from DIR/checkpoint.h5")
     run.add_argument("--every", type=_integer(1), default=10, help="steps between checkpoints (default: 10)")
+    for command in (run, demo):
+        command.add_argument("--animate", metavar="FIELD", default=None,
+                             help="also write DIR/FIELD.gif: FIELD (pressure, gap, displacement, contact: a map; "
+                                  "von_mises, stress_xx, ...: a slice x2 = 0) over the steps")
     commands.add_parser("sweep", help="run a parametric sweep on Dask (python -m framework sweep -h)")
     args = parser.parse_args(argv)
     try:
@@ -260,7 +285,7 @@ def _main(argv):
             return 0
         result, written, elapsed = run_scenario(scenario, args.out, progress=not args.quiet,
                                                 resume=getattr(args, "resume", False),
-                                                every=getattr(args, "every", 10))
+                                                every=getattr(args, "every", 10), animate=args.animate)
     except FrameworkError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

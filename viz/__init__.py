@@ -13,6 +13,9 @@ when a function needs them (``pip install 'viscocontact[viz]'``).
   surfaces); :class:`Exporter` streams step by step.
 * :func:`render` (:mod:`viz.render`): off-screen PNG pictures of one step, a
   pressure map, the deformed surface in 3-D or a subsurface stress slice.
+* :func:`animate` (:mod:`viz.animate`): the recorded steps as an off-screen
+  ``.gif`` or ``.mp4``, every frame a :func:`render` picture with one colour
+  range.
 * :func:`plot_history` (:mod:`viz.plot`): per-step series against time, load
   or approach (matplotlib).
 * :mod:`viz.meshes`: the same meshes in memory (pyvista), with the geometry,
@@ -22,8 +25,9 @@ Geometry: z points UP out of the solid (the solid is ``z <= 0``), layer
 centres at ``z = -x3``, the deformed surface at ``z = -u3``; SI units. Tensors
 in the files are in VTK's order ``XX YY ZZ XY YZ XZ`` (see :mod:`viz.meshes`).
 """
+from .animate import Animation, animate
 from .export import Exporter, export
 from .plot import plot_history
 from .render import Rendering, render
 
-__all__ = ["export", "Exporter", "render", "Rendering", "plot_history"]
+__all__ = ["export", "Exporter", "render", "Rendering", "animate", "Animation", "plot_history"]

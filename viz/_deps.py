@@ -1,7 +1,7 @@
 """Optional dependencies of :mod:`viz`, imported when first needed.
 
 The core package never imports :mod:`viz`; this package imports vtk, pyvista,
-meshio and matplotlib only inside the functions that use them, so that
+meshio, matplotlib, Pillow and imageio only inside the functions that use them, so that
 ``import viz`` works without the ``viz`` extra and a missing package is
 reported with the command that installs it.
 """

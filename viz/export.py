@@ -55,8 +55,10 @@ COLLECTIONS = ("surface", "volume", "indenter")
 
 
 @contextlib.contextmanager
-def _replacing(path):
-    """Yield a new temporary file name next to ``path``; on success move it onto ``path``.
+def _replacing(path, suffix=""):
+    """Yield a new temporary file name next to ``path``, ending in ``suffix``; on success move it onto ``path``.
+
+    ``suffix`` serves writers that take the format from the name (``".mp4"``).
 
     The file is created with mode ``0o666`` less the process umask, like any
     file ``open`` makes (``tempfile.mkstemp`` would give 0600 and the results
@@ -64,7 +66,7 @@ def _replacing(path):
     """
     folder = os.path.dirname(os.path.abspath(path))
     while True:
-        tmp = os.path.join(folder, f".{os.path.basename(path)}.{secrets.token_hex(4)}.tmp")
+        tmp = os.path.join(folder, f".{os.path.basename(path)}.{secrets.token_hex(4)}.tmp{suffix}")
         try:
             os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
             break

@@ -96,6 +96,8 @@ class Rendering:
         Exaggeration of the deformation (``kind="surface"``), else None.
     cmap : str
         Colour map used.
+    title : str
+        The picture's title (lines joined by newlines).
     bar_title : str
         Title of the colour bar, the field's label and display unit.
     bar_labels : tuple of str
@@ -118,6 +120,7 @@ class Rendering:
     display_scale: float
     warp: float = None
     cmap: str = SEQUENTIAL
+    title: str = ""
     bar_title: str = ""
     bar_labels: tuple = ()
     axis_labels: dict = _field(default_factory=dict)
@@ -173,6 +176,36 @@ def colour_limits(low, high):
         top = max(-low, high)
         return -top, top
     return low, high
+
+
+def automatic_warp(grid, deepest):
+    """Default exaggeration of a deformed surface: round (1, 2 or 5 times a power of ten), the deepest point at most 25 % of the grid side.
+
+    Parameters
+    ----------
+    grid : framework.Grid
+        The surface grid.
+    deepest : float
+        Largest absolute normal displacement shown [m].
+
+    Returns
+    -------
+    float
+        The factor (1 for an undeformed surface).
+    """
+    return float(_nice(0.25 * max(grid.size) / deepest)) if deepest > 0 else 1.0
+
+
+def check_clim(clim, unit):
+    """``clim`` as two finite floats ``(low, high)`` [SI unit], or ParameterError naming it."""
+    try:
+        used = tuple(float(c) for c in clim)
+    except (TypeError, ValueError):
+        used = ()
+    if len(used) != 2 or not all(np.isfinite(used)):
+        raise ParameterError(f"clim must be two finite numbers (low, high) in {unit or 'the field unit'}, "
+                             f"got {clim!r}")
+    return used
 
 
 def _nice(value, up=False):
@@ -255,12 +288,58 @@ def _volume_field(result, k, field):
     return measures[field]
 
 
-def _check(kind, field):
+def shown_values(result, k, kind, field, *, plane="x2", origin=0.0, clip=False):
+    """The values a picture of step ``k`` colours [SI unit]: what its colour range is taken from.
+
+    Parameters
+    ----------
+    result : framework.Result
+        The run.
+    k : int
+        Step index (non-negative).
+    kind, field, plane, origin, clip
+        As in :func:`render` (``field`` not None).
+
+    Returns
+    -------
+    ndarray
+        ``kind="map"`` or ``"surface"``: the surface field ``(n1, n2)``.
+        ``kind="slice"``: the layer of cells cut by the plane, ``(n1,
+        layers)`` for ``plane="x2"`` (``(n2, layers)`` for ``"x1"``); with
+        ``clip`` the block of cells on the far side of the plane, ``(n1, n2
+        - index, layers)`` (``(n1 - index, n2, layers)``).
+    """
+    if kind != "slice":
+        return _surface_field(result, k, field)
+    values = _volume_field(result, k, field)
+    index = _plane_index(result.grid, plane, origin)
+    if plane == "x2":
+        return values[:, index:] if clip else values[:, index]
+    return values[index:] if clip else values[index]
+
+
+def check_picture(result, kind, field, *, plane="x2", origin=0.0, warp=None):
+    """The field a picture shows (``field`` or the kind's default) once the picture's options are valid.
+
+    Parameters are those of :func:`render`. Raises ParameterError naming the
+    first bad one: ``kind``, ``field``, ``plane``, ``origin``, ``warp``, or a
+    slice of a grid without layers.
+    """
     if kind not in KINDS:
         raise ParameterError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     field = DEFAULT_FIELD[kind] if field is None else field
     if field not in KINDS[kind]:
         raise ParameterError(f"unknown field {field!r} for kind={kind!r}; choose one of {list(KINDS[kind])}")
+    if plane not in ("x1", "x2"):
+        raise ParameterError(f"plane must be 'x1' or 'x2' (the slice normal), got {plane!r}")
+    if kind == "slice":
+        if not result.grid.layers:
+            raise ParameterError("kind='slice' needs subsurface layers: the grid has layers=0; "
+                                 "give Grid(..., depth=..., layers=...)")
+        _plane_index(result.grid, plane, origin)
+    if warp is not None and not (isinstance(warp, (int, float, np.number)) and not isinstance(warp, bool)
+                                 and np.isfinite(warp) and warp > 0):
+        raise ParameterError(f"warp must be a positive finite exaggeration factor, got {warp!r}")
     return field
 
 
@@ -332,20 +411,39 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
     ImportError
         pyvista is missing (``pip install 'viscocontact[viz]'``).
     """
-    field = _check(kind, field)
+    plotter, rendering = draw(result, field, step, kind=kind, clim=clim, cmap=cmap, warp=warp,
+                              show_indenter=show_indenter, plane=plane, origin=origin, clip=clip,
+                              window_size=window_size, title=title, font_size=font_size)
+    rendering.path = os.fspath(png)
+    try:
+        plotter.screenshot(rendering.path)
+    finally:
+        plotter.close()
+    return rendering
+
+
+def draw(result, field=None, step=-1, *, kind="map", clim=None, cmap=None, warp=None, show_indenter=False,
+         plane="x2", origin=0.0, clip=False, window_size=(1200, 900), title=None, font_size=18):
+    """The scene of :func:`render` in an off-screen plotter, not yet saved: one frame of a picture or an animation.
+
+    Parameters are those of :func:`render`.
+
+    Returns
+    -------
+    plotter : pyvista.Plotter
+        The scene, ready for ``plotter.screenshot``; the caller closes it.
+    rendering : Rendering
+        What is drawn, with ``path`` None.
+    """
+    field = check_picture(result, kind, field, plane=plane, origin=origin, warp=warp)
     k = meshes.step_index(result, step)
-    if plane not in ("x1", "x2"):
-        raise ParameterError(f"plane must be 'x1' or 'x2' (the slice normal), got {plane!r}")
-    if kind == "slice" and not result.grid.layers:
-        raise ParameterError("kind='slice' needs subsurface layers: the grid has layers=0; "
-                             "give Grid(..., depth=..., layers=...)")
     pv = _deps.pyvista(rendering=True)
     grid = result.grid
     label, unit = KINDS[kind][field]
     time = float(result.times[k])
     length_scale, length_unit = display_unit("m", max(grid.size))
     warp_factor, heading = None, ""
-    values = (_volume_field if kind == "slice" else _surface_field)(result, k, field)
+    values = shown_values(result, k, kind, field, plane=plane, origin=origin, clip=clip)
 
     # the mesh to colour, its cell data "values" in SI units, coordinates in the display length unit
     if kind == "map":
@@ -354,40 +452,29 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
     elif kind == "surface":
         u3 = np.asarray(result.displacement(k), dtype=float)
         deepest = float(np.max(np.abs(u3)))
-        if warp is not None:
-            if not (isinstance(warp, (int, float, np.number)) and np.isfinite(warp) and warp > 0):
-                raise ParameterError(f"warp must be a positive finite exaggeration factor, got {warp!r}")
-            warp_factor = float(warp)
-        else:
-            warp_factor = float(_nice(0.25 * max(grid.size) / deepest)) if deepest > 0 else 1.0
+        warp_factor = automatic_warp(grid, deepest) if warp is None else float(warp)
         mesh = meshes.quad_mesh(grid, -warp_factor * meshes.corner_average(u3, grid.periodic))
         mesh.cell_data["values"] = meshes.cell_order(values)
         heading = f", deformation \u00d7{warp_factor:g}"
     elif not clip:
         index = _plane_index(grid, plane, origin)
-        mesh = _slice_mesh(grid, values, plane, origin)
+        mesh = _slice_mesh(grid, values, plane, origin)  # values: the layer of cells cut by the plane
         heading = f", plane {plane} = {_length(_centres(grid, plane)[index], length_scale, length_unit)}"
     else:
         index = _plane_index(grid, plane, origin)
         mesh = meshes.hexahedron_mesh(grid)
-        mesh.cell_data["values"] = meshes.cell_order(values)
         n1, n2 = grid.shape
         ids = np.arange(mesh.n_cells)
         along = (ids // n1) % n2 if plane == "x2" else ids % n1
-        mesh = mesh.extract_cells(ids[along >= index])
+        mesh = mesh.extract_cells(ids[along >= index])  # ascending ids: the cell order of the kept block
+        mesh.cell_data["values"] = meshes.cell_order(values)
         heading = f", clipped at {plane} = {_length(_centres(grid, plane)[index], length_scale, length_unit)}"
     mesh.points[:] /= length_scale
 
     drawn = np.asarray(mesh.cell_data["values"], dtype=float)
     scalar_range = (float(drawn.min()), float(drawn.max()))
     automatic = (-0.5, 1.5) if field == "contact" else colour_limits(*scalar_range)  # 0 and 1 mid-band
-    try:
-        used = tuple(float(c) for c in clim) if clim is not None else automatic
-    except (TypeError, ValueError):
-        used = ()
-    if len(used) != 2 or not all(np.isfinite(used)):
-        raise ParameterError(f"clim must be two finite numbers (low, high) in {unit or 'the field unit'}, "
-                             f"got {clim!r}")
+    used = check_clim(clim, unit) if clim is not None else automatic
     if not used[1] > used[0]:
         used = (used[0], used[0] + (abs(used[0]) if used[0] else 1.0))
     if cmap is None:
@@ -400,8 +487,8 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
     plotter = pv.Plotter(off_screen=True, window_size=tuple(int(w) for w in window_size))
     plotter.set_background("white")
     overlay = _Overlay(plotter, font_size)
-    lines = [title] if title else [f"{label}{heading}", _step_line(result, k, time)]
-    below_title = overlay.title("\n".join(lines))
+    title = title or f"{label}{heading}\n{_step_line(result, k, time)}"
+    below_title = overlay.title(title)
     options = dict(scalars="values", cmap=cmap, clim=(low, high), show_edges=False, show_scalar_bar=False,
                    n_colors=2 if field == "contact" else 256)
     # room at the top for the title and half a tick label, at the left and bottom for labels and axis titles
@@ -443,15 +530,11 @@ def render(result, png, field=None, step=-1, *, kind="map", clim=None, cmap=None
                                frame=kind == "map" or (kind == "slice" and not clip))
     bar_labels = overlay.colour_bar(actor.mapper.lookup_table, low, high, bar_title, bar,
                                     ticks=(0.0, 1.0) if field == "contact" else None)
-    path = os.fspath(png)
-    try:
-        plotter.screenshot(path)
-    finally:
-        plotter.close()
-    return Rendering(path=path, kind=kind, field=field, step=k, time=time, unit=unit, scalar_range=scalar_range,
-                     clim=used, display_unit=shown_unit, display_scale=scale, warp=warp_factor, cmap=cmap,
-                     bar_title=bar_title, bar_labels=bar_labels, axis_labels=axis_labels,
-                     label_boxes=list(overlay.label_boxes))
+    return plotter, Rendering(path=None, kind=kind, field=field, step=k, time=time, unit=unit,
+                              scalar_range=scalar_range, clim=used, display_unit=shown_unit, display_scale=scale,
+                              warp=warp_factor, cmap=cmap, title=title, bar_title=bar_title,
+                              bar_labels=bar_labels, axis_labels=axis_labels,
+                              label_boxes=list(overlay.label_boxes))
 
 
 @functools.lru_cache(maxsize=1)
@@ -781,18 +864,14 @@ def _plane_index(grid, plane, origin):
     return int(np.clip(np.floor((origin + half) / grid.spacing[axis]), 0, grid.shape[axis] - 1))
 
 
-def _slice_mesh(grid, values, plane, origin):
-    """Quads of the cells cut by the plane: (along, depth) with the exact cell values."""
-    index = _plane_index(grid, plane, origin)
+def _slice_mesh(grid, cut, plane, origin):
+    """Quads of the cells cut by the plane: (along, depth) with their exact values ``cut`` (along, layers)."""
     c1, c2 = meshes.corner_coordinates(grid)
     z = -meshes.layer_boundaries(grid)
+    a, zz = np.meshgrid(c1 if plane == "x2" else c2, z, indexing="ij")
     if plane == "x2":
-        along, cut = c1, values[:, index, :]
-        a, zz = np.meshgrid(along, z, indexing="ij")
         points = np.stack([a, np.full_like(a, origin), zz], axis=-1)
     else:
-        along, cut = c2, values[index, :, :]
-        a, zz = np.meshgrid(along, z, indexing="ij")
         points = np.stack([np.full_like(a, origin), a, zz], axis=-1)
     mesh = _quads(points)
     mesh.cell_data["values"] = meshes.cell_order(cut)
