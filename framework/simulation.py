@@ -388,7 +388,7 @@ class Simulation:
                 continue
             integrator.translate(station.shift, grid.periodic)
             if coupling is not None:
-                coupling.problem.move(station.shift)     # the inhomogeneities ride with the material
+                coupling.move(station.shift, grid.periodic)     # the inhomogeneities ride with the material
             compliance, memory = integrator.prepare(station.time)
             history_displacement = 0.0 if memory is None else operator.apply(memory)
             arguments = dict(cell_area=grid.cell_area, initial=integrator.pressure, options=options.solver,

@@ -46,7 +46,7 @@ import warnings
 
 from . import io
 from .errors import FrameworkError, ParameterError
-from .scenario import TABLES, ScenarioError, parse, tomllib
+from .scenario import ARRAYS, TABLES, ScenarioError, parse, tomllib
 
 EXTRA = "pip install 'viscocontact[cluster]'"
 DEFAULT_FOLDER = "sweep"
@@ -533,8 +533,9 @@ class ScenarioBuilder:
             raise ScenarioError(f"{self.source}: {key!r}: expected a dotted key like 'material.young'")
         parts = key.split(".")
         table = parts[0]
-        if table not in TABLES:
-            raise ScenarioError(f"{self.source}: {key}: unknown table {table!r}; expected one of {sorted(TABLES)}")
+        if table not in TABLES | ARRAYS:
+            raise ScenarioError(f"{self.source}: {key}: unknown table {table!r}; expected one of "
+                                f"{sorted(TABLES | ARRAYS)}")
         if len(parts) == 1:
             data[table] = value
             return

@@ -6,7 +6,10 @@ import runpy
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-EXAMPLES = sorted(glob.glob(os.path.join(ROOT, "examples", "*.py")))
+#: Examples whose small-grid run still takes minutes: run by `make test-all`.
+SLOW = {"rolling_over_inhomogeneity.py"}
+EXAMPLES = [pytest.param(path, marks=pytest.mark.slow) if os.path.basename(path) in SLOW else path
+            for path in sorted(glob.glob(os.path.join(ROOT, "examples", "*.py")))]
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=os.path.basename)

@@ -386,3 +386,17 @@ def test_the_rolling_sweep_file_builds_every_point():
         simulation = builder(**point)
         assert simulation.schedule.steady and simulation.schedule.velocity == tuple(point["schedule.velocity"])
         assert simulation.schedule.loads == (point["schedule.load"],)
+
+
+def test_the_rolling_inclusion_sweep_file_builds_every_point():
+    """examples/sweep_rolling_inclusion.toml: 45 points (stiffness x depth x tilt), each a valid run (built once)."""
+    builder, parameters, _ = sw.read_sweep(os.path.join(ROOT, "examples", "sweep_rolling_inclusion.toml"))
+    points = sw.expand(parameters)
+    assert len(points) == 45
+    for point in points[::11]:
+        simulation = builder(**point)
+        body = simulation.inclusions[0]
+        assert body.material.young == point["inclusions.0.material.young"]
+        assert body.center == tuple(point["inclusions.0.center"])
+        tilt = np.degrees(np.arctan2(body.orientation[0, 2], body.orientation[0, 0]))
+        assert abs(tilt) == pytest.approx(point["inclusions.0.euler"][0])

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConvergenceError
-from ..history import HereditarySum, PronyRecursion
+from ..history import HereditarySum, PronyRecursion, translate
 from ..materials import ComplianceSeries, Elastic
 from ..operators.eigenstrain import MANDEL, stress_from_strain, strain_from_stress
 from ..operators.stress import SubsurfaceStress
@@ -95,6 +95,14 @@ class ContactCoupling:
         self._creep, self._relaxation = integrator(creep, shape), integrator(relaxation, shape)
         self.eigenstrain = None     # the last step's, to start the next one from
         self.displacement = 0.0
+
+    def move(self, cells, periodic=(False, False)):
+        """The material moved by ``cells`` whole cells (rolling): the inhomogeneities, their box and the
+        surface displacement they caused move with it (the next step starts from it, displaced)."""
+        if any(cells):
+            self.problem.move(cells)
+            if np.ndim(self.displacement):
+                self.displacement = translate(self.displacement, cells, periodic)
 
     def prepare(self, time):
         """Set up the step to ``time`` [s]: the matrix's effective modulus and its history stresses."""
