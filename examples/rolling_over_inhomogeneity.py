@@ -29,7 +29,12 @@ slice along the run). A Dask study over the modulus ratio, the depth and the til
 ``examples/sweep_rolling_inclusion.toml``; the sphere's run alone is
 ``examples/rolling_over_inhomogeneity.toml``.
 
-    python examples/rolling_over_inhomogeneity.py [--cells 48] [--out out/examples]
+    python examples/rolling_over_inhomogeneity.py [--cells 48] [--out out/examples] [--sweep N]
+
+``--sweep N`` also runs the first ``N`` points of ``examples/sweep_rolling_inclusion.toml`` (all 45:
+hours on two cores; Dask spreads them over a cluster with ``python -m framework sweep``) and draws
+``rolling_inhomogeneity_sweep.png``: the friction coefficient and peak pressure with the body above
+the inhomogeneity against each swept parameter, one line per value of the others.
 """
 import argparse
 import csv
@@ -67,8 +72,10 @@ def simulation(case, cells):
                          inclusions=bodies)
 
 
-def main(cells=48, out="out/examples"):
+def main(cells=48, out="out/examples", sweep=0):
     os.makedirs(out, exist_ok=True)
+    if sweep:
+        parameter_study(out, sweep)
     cases = CASES if cells >= 45 else {name: CASES[name] for name in ("homogeneous", "sphere")}   # a quick look
     results, rows = {}, []
     for case in cases:
@@ -97,6 +104,45 @@ def main(cells=48, out="out/examples"):
         writer.writerows(rows)
     print("wrote", path)
     pictures(results, out)
+    return rows
+
+
+def parameter_study(out, count):
+    """Run the first ``count`` points of the sweep file and plot the final friction and peak pressure per parameter."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    builder, parameters, _ = fw.read_sweep(os.path.join(here, "sweep_rolling_inclusion.toml"))
+    names = list(parameters)
+    from framework.sweep import expand   # the module (fw.sweep is its function)
+    points = expand(parameters)[:count]
+    rows = fw.sweep(builder, points, folder=os.path.join(out, "sweep_rolling_inclusion"))
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        return rows
+    labels = {"inclusions.0.material.young": ("Young's modulus [GPa]", lambda v: v / 1e9),
+              "inclusions.0.center": ("centre depth [mm]", lambda v: v[2] * 1e3),
+              "inclusions.0.euler": ("tilt in x1-x3 [deg]", lambda v: v[0])}
+    figure = Figure(figsize=(13, 7), layout="constrained")
+    axes = figure.subplots(2, len(names), squeeze=False)
+    for column, name in enumerate(names):
+        label, value = labels[name]
+        others = [other for other in names if other != name]
+        groups = {}
+        for row in rows:
+            key = tuple(str(row[other]) for other in others)
+            groups.setdefault(key, []).append(row)
+        for members in groups.values():
+            members.sort(key=lambda row: value(row[name]))
+            x = [value(row[name]) for row in members]
+            axes[0, column].plot(x, [row["final.friction_coefficient"] for row in members], "o-", linewidth=0.8)
+            axes[1, column].plot(x, [row["final.max_pressure"] / 1e6 for row in members], "o-", linewidth=0.8)
+        axes[1, column].set_xlabel(label)
+    axes[0, 0].set_ylabel("friction coefficient, body above it")
+    axes[1, 0].set_ylabel("peak pressure [MPa], body above it")
+    figure.suptitle(f"{len(rows)} points of examples/sweep_rolling_inclusion.toml: one line per value of the "
+                    f"other parameters", fontsize=10)
+    figure.savefig(os.path.join(out, "rolling_inhomogeneity_sweep.png"), dpi=110)
+    print("wrote", os.path.join(out, "rolling_inhomogeneity_sweep.png"))
     return rows
 
 
@@ -136,4 +182,5 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cells", type=int, default=48, help="cells across the grid (x2); twice as many along x1")
     parser.add_argument("--out", default="out/examples")
+    parser.add_argument("--sweep", type=int, default=0, help="also run this many points of the parameter study")
     main(**vars(parser.parse_args()))

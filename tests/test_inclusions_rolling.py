@@ -93,3 +93,32 @@ def test_slice_pictures_draw_the_inhomogeneity_where_the_material_carried_it(sti
     width = 1e-3 * 0.4 / (64 * CELL)                 # the rolled distance as a fraction of the grid's length
     # the grid spans ~800 of the 1200 pixels: a shift of ~200 pixels; ask for more than 125
     assert centres[0] - centres[1] > 0.5 * width * 1000
+
+
+class Interrupt(Exception):
+    pass
+
+
+def test_resume_puts_the_inhomogeneity_where_the_material_had_carried_it(tmp_path):
+    """A rolling run over an inhomogeneity, stopped after 3 steps and resumed: equal to the whole run."""
+    def simulation():
+        grid = fw.Grid(shape=(64, 28), size=(64 * CELL, 28 * CELL), depth=0.3e-3, layers=12)
+        body = [inclusions.Ellipsoid(center=(0.2e-3, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3,
+                                     material=materials.Elastic(600e9, 0.22))]
+        return fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=10e-3),
+                             schedule=schedules.Rolling(load=40.0, velocity=(1.0, 0.0), distance=0.125e-3),
+                             inclusions=body)
+
+    whole = simulation().run()
+
+    def stop(result, record):
+        if record.index == 3:
+            raise Interrupt
+
+    with pytest.raises(Interrupt):
+        simulation().run(checkpoint=tmp_path / "c.h5", every=1, callback=stop)
+    resumed = simulation().run(resume=tmp_path / "c.h5")
+    assert len(resumed) == len(whole)
+    for a, b in zip(resumed.records, whole.records):
+        assert a.inclusion_start == b.inclusion_start
+        assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.eigenstrain, b.eigenstrain)

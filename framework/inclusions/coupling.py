@@ -176,7 +176,7 @@ class ContactCoupling:
 
     def snapshot(self):
         """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
-        out = {"inclusion_eigenstrain": self.eigenstrain}
+        out = {"inclusion_eigenstrain": self.eigenstrain, "inclusion_start": np.array(self.problem.start)}
         for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
             out.update({f"inclusion_{name}_{key}": value for key, value in integrator.snapshot().items()})
         return out
@@ -184,9 +184,12 @@ class ContactCoupling:
     def restore(self, snapshot):
         """Continue from :meth:`snapshot`'s arrays."""
         self.eigenstrain = snapshot["inclusion_eigenstrain"]
+        if "inclusion_start" in snapshot:    # where the material had carried the box (rolling)
+            start = np.asarray(snapshot["inclusion_start"], dtype=int)
+            self.problem.move(tuple(int(c) for c in start[:2] - np.array(self.problem.start[:2])))
         self.displacement = self.problem.operator.surface_displacement(self.eigenstrain)
         for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
-            prefix = f"inclusion_{name}_"
+            prefix = f"inclusion_{name}_"   # (inclusion_start and inclusion_eigenstrain have no such prefix)
             integrator.restore({key[len(prefix):]: value for key, value in snapshot.items() if key.startswith(prefix)})
 
 
