@@ -6,8 +6,8 @@ import runpy
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-#: Examples whose small-grid run still takes minutes: run by `make test-all`.
-SLOW = {"rolling_over_inhomogeneity.py"}
+#: Examples whose small-grid run takes ten seconds to minutes: run by `make test-all`.
+SLOW = {"rolling_over_inhomogeneity.py", "inhomogeneity_under_contact.py"}
 EXAMPLES = [pytest.param(path, marks=pytest.mark.slow) if os.path.basename(path) in SLOW else path
             for path in sorted(glob.glob(os.path.join(ROOT, "examples", "*.py")))]
 

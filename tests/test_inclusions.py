@@ -183,6 +183,7 @@ def test_deep_inhomogeneity_matches_eshelby(case):
     assert error < 0.02, f"{case}: {error:.4f}"
 
 
+@pytest.mark.slow
 def test_deep_inhomogeneity_converges_under_refinement():
     errors = [deep_solve((1, 1, 1), materials.Elastic(3 * E, NU), cells=c)[0] for c in (4, 6, 8)]
     assert errors[0] > errors[1] > errors[2]
@@ -266,6 +267,7 @@ def test_stiff_raises_soft_lowers_the_pressure_and_the_effect_fades_with_depth()
     assert changes["soft"][0] < changes["soft"][1] < 0
 
 
+@pytest.mark.slow
 def test_small_inhomogeneity_follows_the_dilute_approach_change():
     """Approach change of a small sphere at depth a/2 against Eshelby + Betti (first order in its volume)."""
     load, depth = 40.0, 0.06e-3

@@ -74,6 +74,7 @@ def test_results_with_rolling_inhomogeneities_round_trip(stiff, tmp_path):
         assert np.array_equal(loaded.stress(step), stiff.stress(step))
 
 
+@pytest.mark.slow
 def test_slice_pictures_draw_the_inhomogeneity_where_the_material_carried_it(stiff, tmp_path):
     """Body-frame pictures: the outline moves back by the distance rolled (0.4 mm between steps 8 and 24)."""
     import copy
@@ -99,6 +100,7 @@ class Interrupt(Exception):
     pass
 
 
+@pytest.mark.slow
 def test_resume_puts_the_inhomogeneity_where_the_material_had_carried_it(tmp_path):
     """A rolling run over an inhomogeneity, stopped after 3 steps and resumed: equal to the whole run."""
     def simulation():

@@ -54,6 +54,7 @@ def test_held_load_goes_from_the_glassy_to_the_relaxed_elastic_solution():
     assert raised[-1] > raised[0] > 1
 
 
+@pytest.mark.slow
 def test_recursive_and_hereditary_histories_agree():
     ramp = loads.Ramp(end=40.0, duration=TAU)
     times = np.linspace(0.25, 3.0, 6) * TAU
