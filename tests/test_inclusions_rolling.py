@@ -43,6 +43,7 @@ def test_matrix_stiffness_inhomogeneity_changes_nothing():
     assert np.abs(same.eigenstrain(-1)).max() <= 1e-14
 
 
+@pytest.mark.slow
 def test_stiff_inhomogeneity_raises_the_pressure_and_flips_the_friction_change(homogeneous, stiff):
     """Ahead of the axis it adds pressure where the sphere's slope resists the motion (more friction),
     behind it where the slope pushes (less): the friction's change flips sign as the body passes."""
@@ -65,6 +66,7 @@ def test_stiff_inhomogeneity_raises_the_pressure_and_flips_the_friction_change(h
         assert x1 == pytest.approx(0.4e-3 - position[step], abs=CELL / 2)
 
 
+@pytest.mark.slow
 def test_results_with_rolling_inhomogeneities_round_trip(stiff, tmp_path):
     stiff.save(tmp_path / "r.h5")
     loaded = fw.load_result(tmp_path / "r.h5")

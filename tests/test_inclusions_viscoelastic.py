@@ -31,6 +31,7 @@ def test_constant_modulus_matrix_reproduces_the_elastic_result():
     assert np.abs(constant.stress(-1) - elastic.stress(-1)).max() <= 1e-9 * np.abs(elastic.stress(-1)).max()
 
 
+@pytest.mark.slow
 def test_held_load_goes_from_the_glassy_to_the_relaxed_elastic_solution():
     """At t = 0 the glassy matrix answers; after 30 relaxation times the relaxed one (same inhomogeneity).
 

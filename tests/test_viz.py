@@ -499,7 +499,7 @@ def test_inhomogeneity_surface_encloses_the_ellipsoid(inhomogeneous, tmp_path):
     assert set(surface.cell_data["inhomogeneity"]) == {1} and surface.cell_data["young"][0] == 600e9
 
 
-@pytest.mark.parametrize("clip", [False, True])
+@pytest.mark.parametrize("clip", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_slices_outline_the_inhomogeneities(inhomogeneous, tmp_path, clip):
     """The same slice with and without the bodies: the pixels that differ hold the black outline."""
     import copy
