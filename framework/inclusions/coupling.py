@@ -48,7 +48,8 @@ class CoupledStep:
     """One converged step: the contact solution, the eigenstrain fields and the fixed-point count.
 
     ``eigenstrain`` and ``stress`` are box fields ``(m1, m2, m3, 6)`` (tensor shears; the total
-    stress [Pa]); ``displacement`` the eigenstrains' surface displacement the contact saw.
+    stress [Pa]); ``displacement`` the eigenstrains' surface displacement the contact saw;
+    ``contact_stress`` and ``field`` what the matrix's histories remember of the step.
     """
 
     contact: object
@@ -57,6 +58,8 @@ class CoupledStep:
     displacement: np.ndarray
     couplings: int
     change: float
+    contact_stress: np.ndarray
+    field: np.ndarray
 
 
 class ContactCoupling:
@@ -121,7 +124,7 @@ class ContactCoupling:
         self._relaxation.commit(self._time, step.field)
 
     def _fields(self, pressure, initial, tolerance):
-        """Eigenstrains, total stress and the fields to commit for one contact pressure."""
+        """Eigenstrains, total stress, the fields to commit, and the inner solve's residual and success."""
         problem, nu = self.problem, self.problem.matrix.poisson
         inner = problem.problem
         contact_stress = self._stress.apply(pressure, problem.operator.depths)[problem.box[:2]]
@@ -137,12 +140,11 @@ class ContactCoupling:
         # a Krylov solve that stalls short of a tight inner tolerance is judged by the coupling's own test
         eigenstrain, disturbance, _, residual, success = inner.solve_for(right, initial=initial, tolerance=tolerance,
                                                                           max_iterations=200, raise_on_failure=False)
-        self._inner = (residual, success, tolerance)
         field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
         stress = matrix_stress + self._modulus * field
         strain = strain0 + disturbance
         stress[cells] = inner._per_material(inner.stiffness, strain[cells] * MANDEL) / MANDEL
-        return eigenstrain, stress, contact_stress, field
+        return eigenstrain, stress, contact_stress, field, residual, success
 
     def solve(self, solve_contact):
         """Converge one step; ``solve_contact(extra_displacement)`` solves the contact with that displacement added.
@@ -161,19 +163,17 @@ class ContactCoupling:
         for count in range(1, self.max_couplings + 1):
             contact = solve_contact(displacement)
             tolerance = min(1e-3, max(self.inclusion_tolerance, 1e-2 * change))
-            eigenstrain, stress, contact_stress, field = self._fields(contact.pressure, self.eigenstrain, tolerance)
+            eigenstrain, stress, contact_stress, field, inner_residual, inner_success = self._fields(
+                contact.pressure, self.eigenstrain, tolerance)
             self.eigenstrain = eigenstrain
             image = problem.operator.surface_displacement(eigenstrain)
             residual = image - displacement
             scale = max(np.abs(contact.displacement).max(), np.abs(image).max(), 1e-300)
             change = float(np.abs(residual).max() / scale)
-            residual_inner, success, asked = self._inner
-            if change <= self.tolerance and (success or residual_inner <= 10 * self.tolerance):
+            if change <= self.tolerance and (inner_success or inner_residual <= 10 * self.tolerance):
                 self.displacement = image
                 # the contact saw ``displacement``; the eigenstrains answer its pressure: consistent to the tolerance
-                step = CoupledStep(contact, eigenstrain, stress, displacement, count, change)
-                step.contact_stress, step.field = contact_stress, field
-                return step
+                return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field)
             residuals.append(residual.ravel())
             images.append(image.ravel())
             del residuals[:-ANDERSON_DEPTH - 1], images[:-ANDERSON_DEPTH - 1]

@@ -93,14 +93,12 @@ class InclusionProblem:
         if len(inclusions) == 0:
             raise ParameterError("inclusions is empty: give at least one inhomogeneity")
         self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
-        self.start, self.shape = inclusion_box(grid, inclusions, margin)
-        self.coordinates = box_coordinates(grid, self.start, self.shape)
-        self.indicator = inclusions.indicator(*self.coordinates)
+        start, self.shape = inclusion_box(grid, inclusions, margin)
+        self.indicator = inclusions.indicator(*box_coordinates(grid, start, self.shape))
         stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
         if travel is not None:
-            self._check_travel(travel)
-        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, self.start, self.shape,
-                                             whole_patch=travel is not None)
+            self._check_travel(start, travel)
+        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None)
         self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, instantaneous(matrix))
         for k, stiffness in enumerate(self.problem.stiffness):
             ratio = stiffness_ratio(stiffness, self.problem.matrix)
@@ -112,9 +110,9 @@ class InclusionProblem:
             if not np.any(self.indicator == k + 1):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
 
-    def _check_travel(self, travel):
+    def _check_travel(self, start, travel):
         """The box must stay on the grid while the material carries it (a rolling run), checked before any step."""
-        position = np.array(self.start[:2])
+        position = np.array(start[:2])
         for cells in travel:
             position = position + cells
             for axis in range(2):
@@ -123,20 +121,23 @@ class InclusionProblem:
                     raise InclusionError(
                         f"inclusions: the material carries the inhomogeneities (and the box of "
                         f"{self.shape[axis]} cells around them) off the grid along x{axis + 1} after "
-                        f"{abs(position[axis] - self.start[axis]) * spacing:.4g} m of motion; expected them to "
+                        f"{abs(position[axis] - start[axis]) * spacing:.4g} m of motion; expected them to "
                         f"stay on the grid for the whole run: lengthen grid.size[{axis}], shorten the distance or "
                         f"start them further ahead")
 
     @property
+    def start(self):
+        """First cuboid of the box on the grid (where the material has carried it)."""
+        return self.operator.start
+
+    @property
     def box(self):
         """Slices of the box in the grid's ``(n1, n2, layers)`` arrays (where it lies now)."""
-        return tuple(slice(s, s + m) for s, m in zip(self.start, self.shape))
+        return self.operator.box
 
     def move(self, cells):
         """Move the inhomogeneities and their box with the material by ``cells = (c1, c2)`` whole cells."""
-        if any(cells):
-            self.operator.move(cells)
-            self.start = self.operator.start
+        self.operator.move(cells)
 
     def on_grid(self, field, start=None):
         """A box field ``(m1, m2, m3, ...)`` placed in a zero grid field ``(n1, n2, layers, ...)``.

@@ -316,8 +316,6 @@ class HalfSpaceEigenstrain:
         self._stress = SubsurfaceStress(self._patch_grid, poisson)
         self._surface_stress = None
         self._love = None
-        self._footprint = (slice(start[0] - low[0], start[0] - low[0] + shape[0]),
-                           slice(start[1] - low[1], start[1] - low[1] + shape[1]))
 
     def _stiffness_spectra(self, items, real):
         """Spectra of the 21 entries ``a <= b`` of ``C : D`` (unit Young's modulus, Mandel basis).
@@ -416,6 +414,11 @@ class HalfSpaceEigenstrain:
         return self.spacing[2] * self._surface_stress.transpose(fields, self.depths)
 
     @property
+    def _footprint(self):
+        """Slices of the box's surface cells in the patch's arrays."""
+        return tuple(slice(s - p.start, s - p.start + m) for s, p, m in zip(self.start, self.patch, self.shape))
+
+    @property
     def box(self):
         """Slices of the box in the grid's ``(n1, n2, layers)`` arrays."""
         return tuple(slice(s, s + m) for s, m in zip(self.start, self.shape))
@@ -437,7 +440,6 @@ class HalfSpaceEigenstrain:
                 raise ParameterError(f"move: the box would leave the grid along x{axis + 1} (cuboids {start[axis]} .. "
                                      f"{start[axis] + self.shape[axis] - 1} of 0 .. {self.grid.shape[axis] - 1})")
         self.start = start
-        self._footprint = (slice(start[0], start[0] + self.shape[0]), slice(start[1], start[1] + self.shape[1]))
 
     def strain(self, eigenstrain):
         """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
