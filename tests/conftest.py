@@ -52,3 +52,20 @@ def flip_byte():
             f.write(bytes([byte[0] ^ 0xFF]))
 
     return flip_byte
+
+
+@pytest.fixture
+def stop_after():
+    """``stop_after(simulation, index, checkpoint)``: run with a checkpoint every step, killed after step ``index``."""
+    class Stop(Exception):
+        pass
+
+    def run(simulation, index, checkpoint):
+        def stop(result, record):
+            if record.index == index:
+                raise Stop
+
+        with pytest.raises(Stop):
+            simulation.run(checkpoint=checkpoint, every=1, callback=stop)
+    return run
+

@@ -8,10 +8,6 @@ from framework import errors, inclusions, io, materials
 pytest.importorskip("h5py")
 
 
-class Interrupt(Exception):
-    pass
-
-
 def simulation(loads=(20.0, 40.0, 60.0)):
     """A 24 x 24 x 16 grid, a tilted stiff ellipsoid under a sphere, rising loads at t = 1, 2, ... s."""
     grid = fw.Grid(shape=(24, 24), size=(1e-3, 1e-3), depth=0.5e-3, layers=16)
@@ -63,14 +59,9 @@ def test_a_flipped_byte_in_the_eigenstrains_is_found(whole, tmp_path, flip_byte)
         fw.load_result(tmp_path / "r.h5")
 
 
-def test_resume_gives_the_uninterrupted_result(whole, tmp_path):
+def test_resume_gives_the_uninterrupted_result(whole, tmp_path, stop_after):
     """Stopped after the first step, resumed from the checkpoint (which holds the last eigenstrains): bit-equal."""
-    def stop(result, record):
-        if record.index == 1:
-            raise Interrupt
-
-    with pytest.raises(Interrupt):
-        simulation().run(checkpoint=tmp_path / "c.h5", every=1, callback=stop)
+    stop_after(simulation(), 1, tmp_path / "c.h5")
     configuration, records, state = io.read(tmp_path / "c.h5")
     assert len(records) == 1 and "inclusion_eigenstrain" in state
     assert np.array_equal(state["inclusion_eigenstrain"], whole.records[0].eigenstrain)

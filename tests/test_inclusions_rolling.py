@@ -98,12 +98,8 @@ def test_slice_pictures_draw_the_inhomogeneity_where_the_material_carried_it(sti
     assert centres[0] - centres[1] > 0.5 * width * 1000
 
 
-class Interrupt(Exception):
-    pass
-
-
 @pytest.mark.slow
-def test_resume_puts_the_inhomogeneity_where_the_material_had_carried_it(tmp_path):
+def test_resume_puts_the_inhomogeneity_where_the_material_had_carried_it(tmp_path, stop_after):
     """A rolling run over an inhomogeneity, stopped after 3 steps and resumed: equal to the whole run."""
     def simulation():
         grid = fw.Grid(shape=(64, 28), size=(64 * CELL, 28 * CELL), depth=0.3e-3, layers=12)
@@ -115,12 +111,7 @@ def test_resume_puts_the_inhomogeneity_where_the_material_had_carried_it(tmp_pat
 
     whole = simulation().run()
 
-    def stop(result, record):
-        if record.index == 3:
-            raise Interrupt
-
-    with pytest.raises(Interrupt):
-        simulation().run(checkpoint=tmp_path / "c.h5", every=1, callback=stop)
+    stop_after(simulation(), 3, tmp_path / "c.h5")
     resumed = simulation().run(resume=tmp_path / "c.h5")
     assert len(resumed) == len(whole)
     for a, b in zip(resumed.records, whole.records):

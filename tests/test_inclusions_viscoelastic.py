@@ -68,11 +68,7 @@ def test_recursive_and_hereditary_histories_agree():
             <= 1e-7 * np.abs(recursive.eigenstrain(step)).max()
 
 
-class Interrupt(Exception):
-    pass
-
-
-def test_resume_carries_the_matrix_memory(tmp_path):
+def test_resume_carries_the_matrix_memory(tmp_path, stop_after):
     """A viscoelastic run stopped after two steps and resumed from its checkpoint equals the whole run."""
     grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=16)
     bodies = [inclusions.Ellipsoid(center=(0.0, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3, material=CARBIDE)]
@@ -84,12 +80,7 @@ def test_resume_carries_the_matrix_memory(tmp_path):
 
     whole = simulation().run()
 
-    def stop(result, record):
-        if record.index == 1:
-            raise Interrupt
-
-    with pytest.raises(Interrupt):
-        simulation().run(checkpoint=tmp_path / "c.h5", every=1, callback=stop)
+    stop_after(simulation(), 1, tmp_path / "c.h5")
     resumed = simulation().run(resume=tmp_path / "c.h5")
     for a, b in zip(resumed.records, whole.records):
         assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.eigenstrain, b.eigenstrain)
