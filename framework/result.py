@@ -62,6 +62,7 @@ class Result:
         self.schedule, self.options = schedule, options
         self.inclusions = inclusions
         self._inclusion_problem = inclusion_problem
+        self._inclusion_layout = None
         self.version = __version__
         self.records = []
         self._stress_operator = None
@@ -250,36 +251,48 @@ class Result:
         return value
 
     def _inclusions_problem(self):
+        """The inhomogeneities' operators (built on demand for ``stress_at`` of a loaded result)."""
         if self._inclusion_problem is None:
-            if not self.inclusions:
-                raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
+            self._require_inclusions()
             from .inclusions.field import InclusionProblem
-            margin = self.options.inclusion_margin
-            if margin is None:
-                margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in self.inclusions)
-            self._inclusion_problem = InclusionProblem(self.grid, self.material, self.inclusions, margin=margin)
+            self._inclusion_problem = InclusionProblem(self.grid, self.material, self.inclusions,
+                                                       margin=self.options.inclusion_margin)
         return self._inclusion_problem
 
+    def _require_inclusions(self):
+        if not self.inclusions:
+            raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
+
+    def _layout(self):
+        """``(start, shape, indicator)`` of the box at the start of the run: no operator needed to place fields."""
+        if self._inclusion_layout is None:
+            self._require_inclusions()
+            from .inclusions.field import layout
+            self._inclusion_layout = layout(self.grid, self.inclusions, self.options.inclusion_margin)
+        return self._inclusion_layout
+
+    def _inclusion_start(self, record):
+        return self._layout()[0] if record.inclusion_start is None else record.inclusion_start
+
     def _inclusion_box(self, record):
-        problem = self._inclusions_problem()
-        start = problem.start if record.inclusion_start is None else record.inclusion_start
-        return tuple(slice(s, s + m) for s, m in zip(start, problem.shape))
+        return tuple(slice(s, s + m) for s, m in zip(self._inclusion_start(record), self._layout()[1]))
 
     def eigenstrain(self, step):
         """Equivalent eigenstrain of the inhomogeneities, shape (n1, n2, layers, 6), tensor shears, Voigt order.
 
         Zero outside the inhomogeneities (THEORY.md sec. 8).
         """
+        from .inclusions.field import place
         record = self._record(step)
         if record.eigenstrain is None:
             raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
-        return self._inclusions_problem().on_grid(record.eigenstrain, record.inclusion_start)
+        return place(self.grid, record.eigenstrain, self._inclusion_start(record))
 
     def inhomogeneity(self, step):
         """Indicator of the inhomogeneities on the cuboids, shape (n1, n2, layers): 0 matrix, k + 1 the k-th."""
+        from .inclusions.field import place
         record = self._record(step)
-        problem = self._inclusions_problem()
-        return problem.on_grid(problem.indicator, record.inclusion_start)
+        return place(self.grid, self._layout()[2], self._inclusion_start(record))
 
     def von_mises(self, step):
         """Von Mises equivalent stress [Pa], shape (n1, n2, layers)."""

@@ -274,11 +274,8 @@ class Simulation:
                                      "(the contact changes as the body passes it); roll over it in a transient run "
                                      "(steady=False, with a distance)")
             travel = [station.shift for station in self._timeline]
-        margin = self.options.inclusion_margin
-        if margin is None:
-            margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in inclusions)
-        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, margin=margin,
-                                                   travel=travel)
+        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions,
+                                                   margin=self.options.inclusion_margin, travel=travel)
         return inclusions
 
     def _check(self):

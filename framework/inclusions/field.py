@@ -43,6 +43,26 @@ def box_coordinates(grid, start, shape):
             grid.x3[start[2]:start[2] + shape[2]])
 
 
+def layout(grid, inclusions, margin=None):
+    """The box around the inhomogeneities and its indicator: ``(start, shape, indicator)``.
+
+    ``margin`` [m] grows the box on every side (None: half the largest semi-axis, where the
+    eigenstrains' stresses are still a sizeable part of the field); the indicator is 0 in the
+    matrix and ``k + 1`` in the cuboids of the ``k``-th inhomogeneity.
+    """
+    if margin is None:
+        margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in inclusions)
+    start, shape = inclusion_box(grid, inclusions, margin)
+    return start, shape, inclusions.indicator(*box_coordinates(grid, start, shape))
+
+
+def place(grid, field, start):
+    """A box field ``(m1, m2, m3, ...)`` whose first cuboid is ``start``, in a zero grid field ``(n1, n2, layers, ...)``."""
+    out = np.zeros((*grid.shape, grid.layers, *field.shape[3:]), dtype=field.dtype)
+    out[tuple(slice(s, s + m) for s, m in zip(start, field.shape[:3]))] = field
+    return out
+
+
 def stiffness_ratio(inclusion_stiffness, matrix_stiffness):
     """Smallest eigenvalue of ``C_M^-1/2 C_I C_M^-1/2`` (Mandel matrices)."""
     values, vectors = np.linalg.eigh(matrix_stiffness)
@@ -77,15 +97,15 @@ class InclusionProblem:
         gives it each step's effective modulus).
     inclusions : framework.inclusions.InclusionSet
         The inhomogeneities.
-    margin : float
+    margin : float, optional
         Distance [m] the box extends beyond the inhomogeneities, where the total
-        stress (with the eigenstrains' fields) is computed for the outputs.
+        stress (with the eigenstrains' fields) is computed for the outputs (see :func:`layout`).
     travel : sequence of (int, int), optional
         The whole-cell shifts of the material at each step of a rolling run: the box
         moves with them, and must stay on the grid all the way.
     """
 
-    def __init__(self, grid, matrix, inclusions, margin=0.0, travel=None):
+    def __init__(self, grid, matrix, inclusions, margin=None, travel=None):
         if not isinstance(matrix, (Elastic, Viscoelastic)):
             raise ParameterError(f"matrix must be a framework.materials.Elastic or Viscoelastic (a solid with an "
                                  f"instantaneous modulus), got {type(matrix).__name__}")
@@ -93,8 +113,7 @@ class InclusionProblem:
         if len(inclusions) == 0:
             raise ParameterError("inclusions is empty: give at least one inhomogeneity")
         self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
-        start, self.shape = inclusion_box(grid, inclusions, margin)
-        self.indicator = inclusions.indicator(*box_coordinates(grid, start, self.shape))
+        start, self.shape, self.indicator = layout(grid, inclusions, margin)
         stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
         if travel is not None:
             self._check_travel(start, travel)
@@ -144,10 +163,7 @@ class InclusionProblem:
 
         ``start`` is where the box lay (a record of a rolling run), by default where it lies now.
         """
-        start = self.start if start is None else start
-        out = np.zeros((*self.grid.shape, self.grid.layers, *field.shape[3:]), dtype=field.dtype)
-        out[tuple(slice(s, s + m) for s, m in zip(start, self.shape))] = field
-        return out
+        return place(self.grid, field, self.start if start is None else start)
 
     def stress_at(self, points, applied_strain, eigenstrain):
         """Total stress ``(n, 6)`` [Pa] at points ``(n, 3)`` [m]: applied strain plus the eigenstrains' field.
