@@ -136,14 +136,14 @@ class ContactCoupling:
             else contact_stress + self._relaxation_history
         cells = inner.cells
         right = (matrix_stress[cells] * MANDEL
-                 - inner._per_material(inner.stiffness, strain0[cells] * MANDEL))
+                 - inner.per_material(inner.stiffness, strain0[cells] * MANDEL))
         # a Krylov solve that stalls short of a tight inner tolerance is judged by the coupling's own test
         eigenstrain, disturbance, _, residual, success = inner.solve_for(right, initial=initial, tolerance=tolerance,
                                                                           max_iterations=200, raise_on_failure=False)
         field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
         stress = matrix_stress + self._modulus * field
         strain = strain0 + disturbance
-        stress[cells] = inner._per_material(inner.stiffness, strain[cells] * MANDEL) / MANDEL
+        stress[cells] = inner.per_material(inner.stiffness, strain[cells] * MANDEL) / MANDEL
         return eigenstrain, stress, contact_stress, field, residual, success
 
     def solve(self, solve_contact):

@@ -127,7 +127,7 @@ class EquivalentInclusionProblem:
         """Number of unknowns (6 per cuboid of the inhomogeneities)."""
         return 6 * self.material.size
 
-    def _per_material(self, matrices, values):
+    def per_material(self, matrices, values):
         out = np.empty_like(values)
         for k, matrix in enumerate(matrices):
             rows = self.material == k
@@ -143,7 +143,7 @@ class EquivalentInclusionProblem:
     def _apply(self, values, disturbance=None):
         if disturbance is None:
             disturbance = self.operator.strain(self.box_field(values))
-        return self._per_material(self.contrast, disturbance[self.cells] * MANDEL) + values @ self.matrix.T
+        return self.per_material(self.contrast, disturbance[self.cells] * MANDEL) + values @ self.matrix.T
 
     def solve(self, applied_strain, initial=None, tolerance=1e-10, max_iterations=500, raise_on_failure=True):
         """Equivalent eigenstrain for the strain ``applied_strain`` the matrix would have without inhomogeneities.
@@ -163,7 +163,7 @@ class EquivalentInclusionProblem:
         """
         shape = (*self.operator.shape, 6)
         applied = np.broadcast_to(np.asarray(applied_strain, dtype=float), shape)
-        right = -self._per_material(self.contrast, applied[self.cells] * MANDEL)
+        right = -self.per_material(self.contrast, applied[self.cells] * MANDEL)
         eigenstrain, disturbance, iterations, residual, success = self.solve_for(
             right, initial=initial, tolerance=tolerance, max_iterations=max_iterations,
             raise_on_failure=raise_on_failure)
@@ -183,10 +183,10 @@ class EquivalentInclusionProblem:
         start = None if initial is None else (np.asarray(initial, dtype=float)[self.cells] * MANDEL).ravel()
 
         def preconditioned(x):
-            return self._per_material(self._preconditioner, self._apply(x.reshape(-1, 6))).ravel()
+            return self.per_material(self._preconditioner, self._apply(x.reshape(-1, 6))).ravel()
 
         operator = LinearOperator((n, n), matvec=preconditioned, dtype=float)
-        right_p = self._per_material(self._preconditioner, right).ravel()
+        right_p = self.per_material(self._preconditioner, right).ravel()
         count = [0]
 
         def callback(_):
@@ -200,7 +200,7 @@ class EquivalentInclusionProblem:
         disturbance = self.operator.strain(eigenstrain)     # one product: the residuals and the solution's strain
         left = self._apply(values, disturbance)
         residual = float(np.linalg.norm(left - right) / scale)
-        precond_residual = float(np.linalg.norm(self._per_material(self._preconditioner, left - right))
+        precond_residual = float(np.linalg.norm(self.per_material(self._preconditioner, left - right))
                                  / np.linalg.norm(right_p))
         success = precond_residual <= 10 * tolerance
         if not success and raise_on_failure:
@@ -211,6 +211,6 @@ class EquivalentInclusionProblem:
     def _solution(self, eigenstrain, applied, iterations, residual, success, disturbance=0.0):
         strain = applied + disturbance
         stress = (strain * MANDEL) @ self.matrix.T
-        stress[self.cells] = self._per_material(self.stiffness, strain[self.cells] * MANDEL)
+        stress[self.cells] = self.per_material(self.stiffness, strain[self.cells] * MANDEL)
         return EquivalentInclusionSolution(eigenstrain=eigenstrain, strain=np.array(strain), stress=stress / MANDEL,
                                            iterations=iterations, residual=residual, success=success)
