@@ -31,7 +31,7 @@ slice along the run). A Dask study over the modulus ratio, the depth and the til
 
     python examples/rolling_over_inhomogeneity.py [--cells 48] [--out out/examples] [--sweep N]
 
-``--sweep N`` also runs the first ``N`` points of ``examples/sweep_rolling_inclusion.toml`` (all 45:
+``--sweep N`` also runs the first ``N`` points of ``examples/sweep_rolling_inclusion.toml`` (all 54:
 hours on two cores; Dask spreads them over a cluster with ``python -m framework sweep``) and draws
 ``rolling_inhomogeneity_sweep.png``: the friction coefficient and peak pressure with the body above
 the inhomogeneity against each swept parameter, one line per value of the others.

@@ -50,16 +50,61 @@ def test_cuboid_kernels_match_kelvin_quadrature():
     assert faces  # the lattice spans the targets
 
 
-def test_fft_operator_equals_direct_sums():
-    """The 3-D FFT products equal the direct corner sums over the same box (all three terms)."""
+@pytest.mark.parametrize("average", [True, False])
+def test_fft_operator_equals_direct_sums(average):
+    """The 3-D FFT products equal the direct corner sums over the same box (all three terms),
+    cell-averaged (Galerkin) or at the centres (collocated)."""
     grid = fw.Grid(shape=(24, 20), size=(2.4e-3, 2.0e-3), depth=1.0e-3, layers=10)
-    operator = HalfSpaceEigenstrain(grid, NU, start=(8, 6, 2), shape=(7, 5, 4))
+    operator = HalfSpaceEigenstrain(grid, NU, start=(8, 6, 0), shape=(7, 5, 4), average=average)
     eigen = np.random.default_rng(1).normal(size=(7, 5, 4, 6)) * 1e-3
     strain = operator.strain(eigen)
     cells = [(0, 0, 0), (3, 2, 3), (6, 4, 1)]
-    points = np.array([[grid.x1[8 + i], grid.x2[6 + j], grid.x3[2 + k]] for i, j, k in cells])
-    direct = operator.strain_at(points, eigen)
+    points = np.array([[grid.x1[8 + i], grid.x2[6 + j], grid.x3[k]] for i, j, k in cells])
+    direct = operator.strain_at(points, eigen, average=average)
     assert np.abs(direct - np.array([strain[c] for c in cells])).max() <= 1e-12 * np.abs(strain).max()
+
+
+def test_cell_averaged_kernels_match_kelvin_quadrature_at_the_gauss_points():
+    """The averaged corner sums are Kelvin's strain at the rule's 8 Gauss points of the target, averaged."""
+    from framework.operators.eigenstrain import cell_average_rule, cuboid_potentials
+    from framework.reference.eigenstrain import kelvin_cuboid_strain
+    half = np.array([0.5, 0.4, 0.3])
+    eigen = np.array([[1.0, 0.3, -0.2], [0.3, -0.5, 0.7], [-0.2, 0.7, 0.4]])
+    shifts, weights = cell_average_rule(2 * half)
+    assert len(weights) == 8 and abs(weights.sum() - 1) < 1e-15
+    for target in np.array([[0, 0, 0], [1, 0, 0], [1, 1, -1]]) * 2 * half:     # itself and two neighbours
+        expected = np.einsum("n,nij->ij", weights, kelvin_cuboid_strain(target + shifts, center=np.zeros(3),
+                                                                        half_sizes=half, eigenstrain=eigen, poisson=NU))
+        got = strain_from_potentials(cuboid_potentials(target, half, 2 * half), vector(eigen), NU)
+        assert np.abs(got - vector(expected)).max() <= 1e-9 * np.abs(expected).max()
+
+
+def test_cell_averaged_operator_has_the_continuous_spectrum():
+    """``C^-1/2 (C:D) C^-1/2`` of an infinite-body lattice lies in [0, 1] (Mura 1987: D is a projection
+    in the energy norm) once averaged over the target cells; collocated it exceeds 1 (checkerboard)."""
+    from framework.inclusions.equivalent import isotropic_mandel
+    from framework.operators.eigenstrain import _stiffness_coefficients
+    m = 5
+    faces = (np.arange(-m, m) + 0.5) * 1e-4
+    stiffness = isotropic_mandel(1.0, NU)
+    values, vectors = np.linalg.eigh(stiffness)
+    root = vectors @ np.diag(values ** -0.5) @ vectors.T
+    offsets = (np.array(list(np.ndindex(m, m, m)))[:, None, :] - np.array(list(np.ndindex(m, m, m)))[None] + m - 1)
+    largest = {}
+    for average in (True, False):
+        kernels = {}
+        for key, value in potential_kernels(faces, faces, faces, cell=(1e-4,) * 3 if average else None).items():
+            for entry, weights in _stiffness_coefficients(NU).items():
+                kernels[entry] = kernels.get(entry, 0.0) + weights[key] * value
+        dense = np.zeros((6, m ** 3, 6, m ** 3))
+        for (a, b), kernel in kernels.items():
+            block = kernel[offsets[..., 0], offsets[..., 1], offsets[..., 2]]
+            dense[a, :, b, :], dense[b, :, a, :] = block, block.T
+        scaled = np.kron(root, np.eye(m ** 3)) @ dense.reshape(6 * m ** 3, -1) @ np.kron(root, np.eye(m ** 3))
+        spectrum = np.linalg.eigvalsh(0.5 * (scaled + scaled.T))
+        largest[average] = spectrum.max()
+        assert spectrum.min() > 0
+    assert largest[True] < 1.0 < 1.15 < largest[False]
 
 
 def test_surface_traction_equals_direct_sums():
@@ -80,6 +125,7 @@ def test_surface_traction_equals_direct_sums():
 
 def test_half_space_cuboid_against_mindlin_quadrature():
     """One loaded cuboid in the half-space: strain around it against Mindlin's point-force solution."""
+    from framework.operators.eigenstrain import cell_average_rule
     from framework.reference.eigenstrain import mindlin_cuboid_strain
     errors = []
     for cells in (8, 16):
@@ -93,9 +139,12 @@ def test_half_space_cuboid_against_mindlin_quadrature():
         strain = operator.strain(eigen)
         centre = np.array([grid.x1[source[0]], grid.x2[source[1]], grid.x3[source[2]]])
         offsets = [(0, 0, 0), (1, 0, 0), (0, 0, -2), (2, 1, 2)]
-        points = np.array([centre + np.array(o) * h for o in offsets])
-        expected = mindlin_cuboid_strain(points, center=centre, half_sizes=np.full(3, h / 2),
-                                         eigenstrain=tensor(eigen[2, 2, 2]), poisson=NU)
+        # the operator averages over each target cuboid by the 2-point Gauss rule: so does the reference
+        shifts, weights = cell_average_rule(operator.spacing)
+        points = np.array([centre + np.array(o) * h + shift for o in offsets for shift in shifts])
+        expected = np.einsum("n,onij->oij", weights, mindlin_cuboid_strain(
+            points, center=centre, half_sizes=np.full(3, h / 2), eigenstrain=tensor(eigen[2, 2, 2]),
+            poisson=NU).reshape(len(offsets), len(weights), 3, 3))
         got = np.array([strain[2 + o[0], 2 + o[1], 2 + o[2]] for o in offsets])
         errors.append(np.abs(got - vector(expected)).max() / np.abs(vector(expected)).max())
     # the Boussinesq correction samples the surface traction at the cell centres: second order
@@ -167,6 +216,8 @@ TILT = inclusions.axis_angle_orientation((0, 1, 0), np.radians(30))
 CASES = {
     "stiff sphere": ((1, 1, 1), materials.Elastic(3 * E, NU), None),
     "soft sphere": ((1, 1, 1), materials.Elastic(E / 3, 0.25), None),
+    "softer sphere (seed 000's 0.2)": ((1, 1, 1), materials.Elastic(E / 5, NU), None),
+    "very soft ellipsoid (1/18)": ((1, 0.8, 0.6), materials.Elastic(E / 18, NU), TILT),
     "prolate": ((1, 0.5, 0.5), materials.Elastic(3 * E, NU), None),
     "oblate": ((1, 1, 0.5), materials.Elastic(E / 2, NU), None),
     "tilted general": ((1, 0.7, 0.45), materials.Elastic(2 * E, 0.2), TILT),
@@ -176,11 +227,12 @@ CASES = {
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_deep_inhomogeneity_matches_eshelby(case):
-    """Mean interior stress within 2 % of Eshelby's uniform solution at 8 cells per largest semi-axis."""
+    """Mean interior stress within 2 % of Eshelby's uniform solution at 8 cells per largest semi-axis
+    (3 % for the very soft one: the staircase's error grows with the contrast; measured 2.7 %)."""
     semi_axes, material, orientation = CASES[case]
     error, solution = deep_solve(semi_axes, material, orientation, cells=8)
     assert solution.success
-    assert error < 0.02, f"{case}: {error:.4f}"
+    assert error < (0.03 if case.startswith("very soft") else 0.02), f"{case}: {error:.4f}"
 
 
 @pytest.mark.slow
@@ -211,26 +263,34 @@ def test_matrix_stiffness_gives_the_homogeneous_solution():
     assert np.abs(solution.stress_at(points) - homogeneous).max() <= 1e-10 * np.abs(homogeneous).max()
 
 
-def test_stress_at_cuboid_centres_equals_the_box_field():
-    """Direct sums at cuboid centres, inside and outside the inhomogeneity, equal the FFT box field."""
+def test_box_field_is_the_cell_average_of_stress_at():
+    """Direct sums at the Gauss points of cuboids (inside and outside the inhomogeneity), averaged by the
+    operator's rule, equal the FFT box field (the Boussinesq correction aside, sampled at the centres)."""
+    from framework.operators.eigenstrain import cell_average_rule
     grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
     body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.6e-3, 0.5e-3, 0.4e-3),
                                 material=materials.Elastic(3 * E, NU), orientation=TILT)
     solution = fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], np.diag([1e-3, 0, -1e-3]), margin=0.2e-3)
     box = solution.box
-    indicator = solution.inhomogeneity[box]
-    cells = np.concatenate([np.argwhere(indicator > 0)[::40], np.argwhere(indicator == 0)[::200]])
-    points = np.array([[grid.x1[box[0]][i], grid.x2[box[1]][j], grid.x3[box[2]][k]] for i, j, k in cells])
+    shifts, weights = cell_average_rule(grid.spacing + (grid.layer_thickness,))
+    centres = np.stack(np.meshgrid(grid.x1[box[0]], grid.x2[box[1]], grid.x3[box[2]], indexing="ij"), axis=-1)
+    inside = np.all([body.contains(centres + shift) for shift in shifts], axis=0)
+    outside = ~np.any([body.contains(centres + shift) for shift in shifts], axis=0)
+    assert np.all(solution.inhomogeneity[box][inside] == 1) and np.all(solution.inhomogeneity[box][outside] == 0)
+    cells = np.concatenate([np.argwhere(inside)[::10], np.argwhere(outside)[::150]])
+    points = np.array([centres[tuple(c)] + shift for c in cells for shift in shifts])
+    averaged = np.einsum("k,nkc->nc", weights, solution.stress_at(points).reshape(len(cells), len(weights), 6))
     expected = np.array([solution.stress[tuple(c)] for c in cells])
-    assert np.abs(solution.stress_at(points) - expected).max() <= 1e-6 * np.abs(expected).max()
+    # 4.5e-4 measured: the smooth Boussinesq correction varies over a cell (second order in its size)
+    assert np.abs(averaged - expected).max() <= 1e-3 * np.abs(expected).max()
 
 
 # --- bad input -------------------------------------------------------------------------------
 
 def test_too_soft_inhomogeneity_is_refused():
     grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
-    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.5e-3,) * 3, material=materials.Elastic(E / 10, NU))
-    with pytest.raises(ParameterError, match=r"inclusions\[0\].material is too soft .* expected >= 0.25"):
+    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.5e-3,) * 3, material=materials.Elastic(E / 25, NU))
+    with pytest.raises(ParameterError, match=r"inclusions\[0\].material is too soft .* expected >= 0.05"):
         fw.solve_inclusions(grid, materials.Elastic(E, NU), [body], np.eye(3) * 1e-3)
 
 

@@ -389,10 +389,10 @@ def test_the_rolling_sweep_file_builds_every_point():
 
 
 def test_the_rolling_inclusion_sweep_file_builds_every_point():
-    """examples/sweep_rolling_inclusion.toml: 45 points (stiffness x depth x tilt), each a valid run (built once)."""
+    """examples/sweep_rolling_inclusion.toml: 54 points (stiffness x depth x tilt), each a valid run (built once)."""
     builder, parameters, _ = sw.read_sweep(os.path.join(ROOT, "examples", "sweep_rolling_inclusion.toml"))
     points = sw.expand(parameters)
-    assert len(points) == 45
+    assert len(points) == 54
     for point in points[::11]:
         simulation = builder(**point)
         body = simulation.inclusions[0]

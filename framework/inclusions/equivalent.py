@@ -10,7 +10,8 @@ eigenstrain ``e*`` such that the stress is the same in every cuboid of the inhom
 (:class:`~framework.operators.eigenstrain.HalfSpaceEigenstrain`). Written as
 ``(C_I - C_M) D[e*] + C_M e* = (C_M - C_I) e0`` it is solved by GMRES (the operator is not
 symmetric), left-preconditioned per inhomogeneity by ``[(C_I - C_M) S + C_M]^-1`` with
-``S`` the strain a cuboid's own eigenstrain causes at its centre: for an isolated cuboid
+``S`` the strain a cuboid's own eigenstrain causes in it (as the operator takes it: averaged over
+the cuboid or at its centre): for an isolated cuboid
 this is the exact local solve, and it makes the iteration count nearly independent of the
 resolution and of the stiffness contrast.
 
@@ -49,9 +50,11 @@ def isotropic_mandel(young, poisson):
     return out
 
 
-def cuboid_self_strain(spacing, poisson):
-    """Mandel matrix of the strain at a cuboid's centre per unit eigenstrain of the cuboid (infinite body)."""
-    potentials = cuboid_potentials(np.zeros(3), 0.5 * np.asarray(spacing, dtype=float))
+def cuboid_self_strain(spacing, poisson, average=False):
+    """Mandel matrix of the strain at a cuboid's centre (or its average over the cuboid, ``average``)
+    per unit eigenstrain of the cuboid (infinite body)."""
+    spacing = np.asarray(spacing, dtype=float)
+    potentials = cuboid_potentials(np.zeros(3), 0.5 * spacing, spacing if average else None)
     columns = [strain_from_potentials(potentials, np.eye(6)[c] / MANDEL[c], poisson) * MANDEL for c in range(6)]
     return np.array(columns).T
 
@@ -109,7 +112,7 @@ class EquivalentInclusionProblem:
         self.cells = np.nonzero(indicator)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
-        self._local = cuboid_self_strain(operator.spacing, operator.poisson)
+        self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self.young = None
         self.set_modulus(young)
 

@@ -8,10 +8,11 @@ from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
 from .equivalent import MANDEL, EquivalentInclusionProblem
 
 #: Inhomogeneities must be at least this stiff relative to the matrix (smallest eigenvalue of
-#: ``C_M^-1/2 C_I C_M^-1/2``). The collocated cuboid operator has a checkerboard mode of
-#: eigenvalue about 1.2 (a continuous operator's lie in [0, 1]); below ratio 1 - 1/1.2 the
-#: equivalent-inclusion system becomes singular, and near it GMRES stalls.
-MIN_STIFFNESS_RATIO = 0.25
+#: ``C_M^-1/2 C_I C_M^-1/2``). The cell-averaged operator's spectrum lies in [0, 0.983] (see
+#: :data:`~framework.operators.eigenstrain.AVERAGE_POINTS`), so the system is regular for any
+#: positive stiffness, but its conditioning grows like ``1 / ratio``: GMRES takes 23 iterations at
+#: 0.2, 32 at 0.1, 44 at 0.05 (sphere, tolerance 1e-10). Voids are out of reach.
+MIN_STIFFNESS_RATIO = 0.05
 
 
 def instantaneous(matrix):
@@ -124,7 +125,8 @@ class InclusionProblem:
             if ratio < MIN_STIFFNESS_RATIO:
                 raise ParameterError(f"inclusions[{k}].material is too soft for the equivalent-inclusion method: its "
                                      f"stiffness is {ratio:.3g} times the matrix's along its softest mode, expected "
-                                     f">= {MIN_STIFFNESS_RATIO} (the cuboid collocation becomes singular below ~0.17)")
+                                     f">= {MIN_STIFFNESS_RATIO} (the system's conditioning grows like 1/ratio; voids are not "
+                                     f"supported)")
         for k in range(len(inclusions)):
             if not np.any(self.indicator == k + 1):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
