@@ -29,6 +29,7 @@ bench: $(STAMP)
 	$(PY) bench/visco_indentation.py
 	$(PY) bench/rolling.py
 	$(PY) bench/inclusion.py
+	$(PY) bench/rolling_inclusion.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

@@ -9,8 +9,8 @@ at the depths 0.75, 1, 1.5 and 2 a:
 
 * ``stiff``: a tungsten-carbide sphere (E = 600 GPa, nu = 0.22) of radius 0.4 a;
 * ``soft``: an aluminium sphere (E = 70 GPa, nu = 0.33) of radius 0.4 a (its
-  shear modulus is 0.33 times the steel's: above the solver's floor,
-  :data:`framework.inclusions.field.MIN_STIFFNESS_RATIO` = 0.25);
+  shear modulus is 0.33 times the steel's; the solver's floor,
+  :data:`framework.inclusions.field.MIN_STIFFNESS_RATIO`, is 0.05);
 * ``tilted``: an alumina ellipsoid (E = 380 GPa, nu = 0.22; a typical
   non-metallic inclusion of bearing steels), semi-axes 0.7 a x 0.4 a x 0.4 a,
   its long axis turned by 30 degrees from x1 towards x3 (about x2).
