@@ -31,10 +31,11 @@ slice along the run). A Dask study over the modulus ratio, the depth and the til
 
     python examples/rolling_over_inhomogeneity.py [--cells 48] [--out out/examples] [--sweep N]
 
-``--sweep N`` also runs the first ``N`` points of ``examples/sweep_rolling_inclusion.toml`` (all 54:
-hours on two cores; Dask spreads them over a cluster with ``python -m framework sweep``) and draws
-``rolling_inhomogeneity_sweep.png``: the friction coefficient and peak pressure with the body above
-the inhomogeneity against each swept parameter, one line per value of the others.
+``--sweep N`` also runs the first ``N`` points of ``examples/sweep_rolling_inclusion.toml`` (all 10,
+one parameter at a time around a base case: a few minutes on two cores; Dask spreads them over a
+cluster with ``python -m framework sweep``) and draws ``rolling_inhomogeneity_sweep.png``: the friction
+coefficient and peak pressure with the body above the inhomogeneity against each swept parameter, one
+line per value of the others (a single point where only one parameter differs from the base case).
 """
 import argparse
 import csv
@@ -111,9 +112,9 @@ def parameter_study(out, count):
     """Run the first ``count`` points of the sweep file and plot the final friction and peak pressure per parameter."""
     here = os.path.dirname(os.path.abspath(__file__))
     builder, parameters, _ = fw.read_sweep(os.path.join(here, "sweep_rolling_inclusion.toml"))
-    names = list(parameters)
     from framework.sweep import expand   # the module (fw.sweep is its function)
     points = expand(parameters)[:count]
+    names = list(dict.fromkeys(name for point in points for name in point))
     rows = fw.sweep(builder, points, folder=os.path.join(out, "sweep_rolling_inclusion"))
     try:
         from matplotlib.figure import Figure

@@ -101,6 +101,7 @@ class ContactCoupling:
         shape = (*problem.shape, 6)
         self._creep, self._relaxation = integrator(creep, shape), integrator(relaxation, shape)
         self.eigenstrain = None     # the last step's, to start the next one from
+        self.disturbance = None     # D[eigenstrain], known from its solve: saves a product per solve
         self.displacement = 0.0
 
     def move(self, cells, periodic=(False, False)):
@@ -108,6 +109,7 @@ class ContactCoupling:
         surface displacement they caused move with it (the next step starts from it, displaced)."""
         if any(cells):
             self.problem.move(cells)
+            self.disturbance = None     # the surface correction's patch edge sees the box elsewhere
             if np.ndim(self.displacement):
                 self.displacement = translate(self.displacement, cells, periodic)
 
@@ -123,7 +125,7 @@ class ContactCoupling:
         self._creep.commit(self._time, step.contact_stress)
         self._relaxation.commit(self._time, step.field)
 
-    def _fields(self, pressure, initial, tolerance):
+    def _fields(self, pressure, initial, initial_disturbance, tolerance):
         """Eigenstrains, total stress, the fields to commit, and the inner solve's residual and success."""
         problem, nu = self.problem, self.problem.matrix.poisson
         inner = problem.problem
@@ -138,13 +140,14 @@ class ContactCoupling:
         right = (matrix_stress[cells] * MANDEL
                  - inner.per_material(inner.stiffness, strain0[cells] * MANDEL))
         # a Krylov solve that stalls short of a tight inner tolerance is judged by the coupling's own test
-        eigenstrain, disturbance, _, residual, success = inner.solve_for(right, initial=initial, tolerance=tolerance,
-                                                                          max_iterations=200, raise_on_failure=False)
+        eigenstrain, disturbance, _, residual, success = inner.solve_for(
+            right, initial=initial, initial_disturbance=initial_disturbance, tolerance=tolerance, max_iterations=200,
+            raise_on_failure=False)
         field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
         stress = matrix_stress + self._modulus * field
         strain = strain0 + disturbance
         stress[cells] = inner.per_material(inner.stiffness, strain[cells] * MANDEL) / MANDEL
-        return eigenstrain, stress, contact_stress, field, residual, success
+        return eigenstrain, disturbance, stress, contact_stress, field, residual, success
 
     def solve(self, solve_contact):
         """Converge one step; ``solve_contact(extra_displacement)`` solves the contact with that displacement added.
@@ -163,8 +166,8 @@ class ContactCoupling:
         for count in range(1, self.max_couplings + 1):
             contact = solve_contact(displacement)
             tolerance = min(1e-3, max(self.inclusion_tolerance, 1e-2 * change))
-            eigenstrain, stress, contact_stress, field, inner_residual, inner_success = self._fields(
-                contact.pressure, self.eigenstrain, tolerance)
+            eigenstrain, self.disturbance, stress, contact_stress, field, inner_residual, inner_success = self._fields(
+                contact.pressure, self.eigenstrain, self.disturbance, tolerance)
             self.eigenstrain = eigenstrain
             image = problem.operator.surface_displacement(eigenstrain)
             residual = image - displacement
@@ -185,6 +188,8 @@ class ContactCoupling:
     def snapshot(self):
         """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
         out = {"inclusion_eigenstrain": self.eigenstrain, "inclusion_start": np.array(self.problem.start)}
+        if self.disturbance is not None:
+            out["inclusion_disturbance"] = self.disturbance
         for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
             out.update({f"inclusion_{name}_{key}": value for key, value in integrator.snapshot().items()})
         return out
@@ -192,6 +197,7 @@ class ContactCoupling:
     def restore(self, snapshot):
         """Continue from :meth:`snapshot`'s arrays."""
         self.eigenstrain = snapshot["inclusion_eigenstrain"]
+        self.disturbance = snapshot.get("inclusion_disturbance")
         if "inclusion_start" in snapshot:    # where the material had carried the box (rolling)
             start = np.asarray(snapshot["inclusion_start"], dtype=int)
             self.problem.move(tuple(int(c) for c in start[:2] - np.array(self.problem.start[:2])))
