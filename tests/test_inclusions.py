@@ -380,3 +380,23 @@ def test_eccentric_punch_over_a_stiff_inhomogeneity_tilts_less_towards_it():
         assert run.center[-1] == pytest.approx([0.1e-3, 0.0], abs=1e-9)
         tilts.append(run.tilt[-1, 0])
     assert abs(tilts[1]) < abs(tilts[0])
+
+
+def test_gmres_returns_the_disturbance_of_its_solution():
+    """The solver's D[e*], built from the Krylov vectors' products, is the operator's product of e* (1e-12);
+    a warm start from a solution with its known D[e*] takes no iteration and no product."""
+    from framework.inclusions.field import InclusionProblem
+    grid = fw.Grid(shape=(24, 24), size=(3e-3, 3e-3), depth=2e-3, layers=16)
+    body = inclusions.Ellipsoid(center=(0, 0, 1e-3), semi_axes=(0.6e-3, 0.5e-3, 0.4e-3),
+                                material=materials.Elastic(10 * E, NU), orientation=TILT)
+    problem = InclusionProblem(grid, materials.Elastic(E, NU), inclusions.InclusionSet([body])).problem
+    right = np.random.default_rng(5).normal(size=(problem.material.size, 6)) * 1e8
+    eigen, disturbance, iterations, residual, success = problem.solve_for(right, tolerance=1e-10)
+    assert success and iterations > 5 and residual < 1e-9
+    exact = problem.operator.strain(eigen)
+    assert np.abs(disturbance - exact).max() <= 1e-12 * np.abs(exact).max()
+    calls = []
+    original = problem.operator.strain
+    problem.operator.strain = lambda field: calls.append(1) or original(field)
+    again = problem.solve_for(right, initial=eigen, initial_disturbance=disturbance, tolerance=1e-8)
+    assert again[2] == 0 and not calls and np.allclose(again[0], eigen, rtol=1e-15, atol=0.0)
