@@ -8,10 +8,14 @@ friction peak for a contact radius a ~ 0.2-0.3 mm). Below the track lies one gla
 
 * ``sphere``: radius 0.1 mm;
 * ``tilted``: an ellipsoid 0.15 x 0.1 x 0.1 mm, its long axis turned 30 degrees from x1 towards x3;
+* ``PMMA sphere``: the same glass sphere in PMMA (:data:`framework.materials.PMMA`, seed 001: E(0) =
+  2.49 GPa relaxing to 1.97 GPa with tau = 8.9 s and 118 s), rolled at V = 2 um/s so that the
+  wake of its slow term, V lambda = 0.27 mm (lambda = 134 s), is again comparable to the contact
+  radius (and three of them fit on the grid behind the body, which a transient run needs);
 
-and the homogeneous run for reference. The body first indents at rest (the glassy response), then
+and the homogeneous runs for reference. The body first indents at rest (the glassy response), then
 rolls 1.2 mm, past the inhomogeneity. With the default ``cells`` = 48 (cells across the grid,
-25 um cubes), each run takes some 20 s.
+25 um cubes), each run takes about a minute.
 
 What happens: as the body approaches a stiff inhomogeneity, it lies ahead of the contact's centre,
 where the sphere's surface slopes against the motion: the extra pressure it draws there adds to
@@ -53,10 +57,15 @@ RADIUS, LOAD, SPEED = 10e-3, 20.0, 0.25e-3            # m, N, m/s
 LENGTH, WIDTH, DEPTH = 2.4e-3, 1.2e-3, 0.5e-3          # grid [m]: 3 wakes and the contact behind the axis
 AHEAD, CENTRE_DEPTH, DISTANCE = 0.6e-3, 0.25e-3, 1.2e-3
 TILT = inclusions.axis_angle_orientation((0.0, 1.0, 0.0), np.radians(30.0))
+SPHERE = dict(semi_axes=(0.1e-3, 0.1e-3, 0.1e-3), orientation=None)
+PMMA_SPEED = 2e-6                                      # m/s: V lambda = 0.27 mm for PMMA's lambda = 134 s
+#: case: (matrix, rolling speed [m/s], inhomogeneity shape or None, the homogeneous case it is compared with)
 CASES = {
-    "homogeneous": None,
-    "sphere": dict(semi_axes=(0.1e-3, 0.1e-3, 0.1e-3), orientation=None),
-    "tilted": dict(semi_axes=(0.15e-3, 0.1e-3, 0.1e-3), orientation=TILT),
+    "homogeneous": (MATRIX, SPEED, None, "homogeneous"),
+    "sphere": (MATRIX, SPEED, SPHERE, "homogeneous"),
+    "tilted": (MATRIX, SPEED, dict(semi_axes=(0.15e-3, 0.1e-3, 0.1e-3), orientation=TILT), "homogeneous"),
+    "PMMA homogeneous": (materials.PMMA, PMMA_SPEED, None, "PMMA homogeneous"),
+    "PMMA sphere": (materials.PMMA, PMMA_SPEED, SPHERE, "PMMA homogeneous"),
 }
 
 
@@ -65,11 +74,11 @@ def simulation(case, cells):
     cell = WIDTH / cells
     n1 = 2 * cells
     grid = fw.Grid(shape=(n1, cells), size=(n1 * cell, WIDTH), depth=DEPTH, layers=int(round(DEPTH / cell)))
-    shape = CASES[case]
+    matrix, speed, shape, _ = CASES[case]
     bodies = None if shape is None else [inclusions.Ellipsoid(center=(AHEAD, 0.0, CENTRE_DEPTH), material=GLASS,
                                                               **shape)]
-    return fw.Simulation(grid=grid, material=MATRIX, indenter=indenters.Sphere(radius=RADIUS),
-                         schedule=schedules.Rolling(load=LOAD, velocity=(SPEED, 0.0), distance=DISTANCE),
+    return fw.Simulation(grid=grid, material=matrix, indenter=indenters.Sphere(radius=RADIUS),
+                         schedule=schedules.Rolling(load=LOAD, velocity=(speed, 0.0), distance=DISTANCE),
                          inclusions=bodies)
 
 
@@ -77,7 +86,7 @@ def main(cells=48, out="out/examples", sweep=0):
     os.makedirs(out, exist_ok=True)
     if sweep:
         parameter_study(out, sweep)
-    cases = CASES if cells >= 45 else {name: CASES[name] for name in ("homogeneous", "sphere")}   # a quick look
+    cases = list(CASES) if cells >= 45 else ["homogeneous", "sphere"]   # a quick look
     results, rows = {}, []
     for case in cases:
         begin = time.perf_counter()
@@ -90,9 +99,9 @@ def main(cells=48, out="out/examples", sweep=0):
                              friction_coefficient=result.friction_coefficient[k], torque=result.torque[k],
                              max_pressure=result.max_pressure[k], contact_area=result.contact_area[k],
                              couplings=record.couplings))
-    base = results["homogeneous"]
     for case in results:
-        if case != "homogeneous":
+        base = results[CASES[case][3]]
+        if CASES[case][2] is not None:
             change = results[case].friction_coefficient - base.friction_coefficient
             k_max, k_min = int(np.argmax(change)), int(np.argmin(change))
             print(f"{case:>12}: friction change {change[k_max]:+.3g} at {(base.position[k_max, 0] - AHEAD) * 1e3:+.2f} mm "
@@ -133,15 +142,21 @@ def parameter_study(out, count):
             key = tuple(str(row[other]) for other in others)
             groups.setdefault(key, []).append(row)
         for members in groups.values():
+            if len(members) < 2:        # varies another parameter: it has its own panel
+                continue
             members.sort(key=lambda row: value(row[name]))
             x = [value(row[name]) for row in members]
             axes[0, column].plot(x, [row["final.friction_coefficient"] for row in members], "o-", linewidth=0.8)
             axes[1, column].plot(x, [row["final.max_pressure"] / 1e6 for row in members], "o-", linewidth=0.8)
         axes[1, column].set_xlabel(label)
+        if name.endswith("young"):      # ratios 0.2 to 23 of the glassy matrix: a log axis, the matrix marked
+            for ax in axes[:, column]:
+                ax.set_xscale("log")
+                ax.axvline(3.0, color="grey", linewidth=0.8, linestyle=":")
     axes[0, 0].set_ylabel("friction coefficient, body above it")
     axes[1, 0].set_ylabel("peak pressure [MPa], body above it")
     figure.suptitle(f"{len(rows)} points of examples/sweep_rolling_inclusion.toml: one line per value of the "
-                    f"other parameters", fontsize=10)
+                    f"other parameters (dotted: the matrix's glassy modulus)", fontsize=10)
     figure.savefig(os.path.join(out, "rolling_inhomogeneity_sweep.png"), dpi=110)
     print("wrote", os.path.join(out, "rolling_inhomogeneity_sweep.png"))
     return rows
@@ -154,19 +169,22 @@ def pictures(results, out):
     except ImportError:
         print("matplotlib or pyvista missing (pip install 'viscocontact[viz]'): no pictures")
         return
-    figure = Figure(figsize=(13, 4), layout="constrained")
-    axes = figure.subplots(1, 3)
+    matrices = list(dict.fromkeys(CASES[case][3] for case in results))      # one row per matrix
+    figure = Figure(figsize=(13, 4 * len(matrices)), layout="constrained")
+    axes = figure.subplots(len(matrices), 3, squeeze=False)
     for case, result in results.items():
+        row = axes[matrices.index(CASES[case][3])]
         x = (result.position[:, 0] - AHEAD) * 1e3
-        for ax, values in zip(axes, (result.friction_coefficient, result.torque, result.max_pressure / 1e6)):
-            ax.plot(x, values, "k--" if case == "homogeneous" else "-", label=case)
-    for ax, label in zip(axes, ("friction coefficient", "rolling torque [N m]", "peak pressure [MPa]")):
-        ax.set(xlabel="body position relative to the inhomogeneity [mm]", ylabel=label)
-        ax.axvline(0.0, color="grey", linewidth=0.8)
-        ax.grid(True, alpha=0.3)
-    axes[0].legend()
-    figure.suptitle(f"Sphere R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N rolling at {SPEED * 1e3:g} mm/s over a standard "
-                    f"linear solid with a glass inhomogeneity {CENTRE_DEPTH * 1e3:g} mm deep", fontsize=10)
+        for ax, values in zip(row, (result.friction_coefficient, result.torque, result.max_pressure / 1e6)):
+            ax.plot(x, values, "k--" if CASES[case][2] is None else "-", label=case)
+    for row, base in zip(axes, matrices):
+        for ax, label in zip(row, ("friction coefficient", "rolling torque [N m]", "peak pressure [MPa]")):
+            ax.set(xlabel="body position relative to the inhomogeneity [mm]", ylabel=label)
+            ax.axvline(0.0, color="grey", linewidth=0.8)
+            ax.grid(True, alpha=0.3)
+        row[0].legend(title=f"{CASES[base][1] * 1e3:g} mm/s")
+    figure.suptitle(f"Sphere R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N rolling over a standard linear solid (top) and "
+                    f"PMMA (bottom) with a glass inhomogeneity {CENTRE_DEPTH * 1e3:g} mm deep", fontsize=10)
     names = ["rolling_inhomogeneity.png"]
     figure.savefig(os.path.join(out, names[0]), dpi=110)
     sphere = results["sphere"]

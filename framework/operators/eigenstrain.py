@@ -38,8 +38,8 @@ PATCH_DEPTHS = 4.0
 #: operator, ``HalfSpaceEigenstrain(average=True)``). Collocated at the centres, the operator has a
 #: checkerboard mode of eigenvalue ~1.21 in ``C^-1/2 (C:D) C^-1/2`` (a continuous operator's lie in
 #: [0, 1]): the equivalent-inclusion system of an inhomogeneity softer than ~0.17 of the matrix is
-#: then singular, and stiff ones show the mode in single cells. Averaged over the target by this
-#: rule the largest eigenvalue is 0.983 (2 points; 0.980 with 4), so any positive stiffness works.
+#: then singular. Averaged over the target by this rule the largest eigenvalue is 0.983 (2 points;
+#: 0.980 with 4), so any positive stiffness works.
 AVERAGE_POINTS = 2
 
 #: Index pairs of the six strain components, in Voigt order xx yy zz yz xz xy.
