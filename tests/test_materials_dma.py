@@ -8,6 +8,8 @@ synthetic DMA data from known Prony series and known WLF constants.
 """
 import json
 import math
+import os
+import runpy
 import warnings
 
 import numpy as np
@@ -30,6 +32,7 @@ BROAD = Viscoelastic.from_prony(
     e_inf=2e6, terms=[(1e8 * math.exp(-0.5 * ((math.log10(tau) + 3) / 3) ** 2), tau)
                       for tau in np.geomspace(1e-9, 1e5, 29)], poisson=0.45)
 UNIVERSAL = WLF(c1=8.86, c2=101.6, reference=373.0)   # Williams, Landel & Ferry's constants at Tg + 50 K
+EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples")
 
 
 def relative_errors(fit, material):
@@ -461,3 +464,48 @@ times = [0.0, 1.0]
         assert material.relaxation_times == pytest.approx(materials.PMMA.relaxation_times * factor, rel=1e-14)
     with pytest.raises(ScenarioError, match=r"material: temperature must lie above T_ref - c2"):
         ScenarioBuilder(base)(**{"material.temperature": 200.0})
+
+
+# --------------------------------------------------------------------------- the example's data and chain
+
+def test_the_example_data_are_the_published_constants_computed():
+    """examples/data/dma_sweeps.csv: the seed-001 PMMA series under the universal WLF law, to its 7 digits."""
+    path = os.path.join(EXAMPLES, "data", "dma_sweeps.csv")
+    with open(path) as f:
+        assert "COMPUTED, NOT MEASURED" in f.readline()
+    table = np.loadtxt(path, delimiter=",", comments="#")
+    law = WLF(c1=17.44, c2=51.6, reference=296.15)
+    pmma = Viscoelastic(e_inf=1973e6, terms=[(254.776e6, 8.93), (263.6628e6, 117.96)], poisson=0.35)
+    for temperature, frequency, storage, loss in table:
+        expected = pmma.at(temperature, law).complex_modulus(2 * np.pi * frequency)
+        assert (storage, loss) == pytest.approx((expected.real, expected.imag), rel=1e-6)
+    assert sorted(set(table[:, 0])) == pytest.approx(296.15 + np.arange(-5.0, 26.0, 5.0))
+
+
+def test_the_example_chain_gives_the_published_constants_back():
+    """Sweeps -> master curve -> WLF and a 2-term Prony fit: the constants the data were computed from, to 1e-4."""
+    example = runpy.run_path(os.path.join(EXAMPLES, "dma_to_rolling.py"))
+    curve = master_curve(example["read_sweeps"](), reference=296.15)
+    law = WLF(c1=17.44, c2=51.6, reference=296.15)
+    assert np.log10(curve.shift_factors) == pytest.approx(law.log10_factor(curve.temperatures), abs=1e-4)
+    wlf = curve.fit_wlf()
+    assert (wlf.c1, wlf.c2) == pytest.approx((17.44, 51.6), rel=1e-4)   # measured 2e-5
+    fit = curve.fit_prony(2, poisson=0.35)
+    assert relative_errors(fit, materials.PMMA) < 1e-4                  # measured 4e-5
+    assert fit.rms_relative_error < 1e-4
+
+
+def test_rolling_friction_obeys_time_temperature_superposition():
+    """Steady rolling at T and speed V equals rolling at T_ref and speed V a_T (a 24-cell grid, solver tolerance)."""
+    law = WLF(c1=17.44, c2=51.6, reference=296.15)
+
+    def friction(material, speed):
+        grid = fw.Grid(shape=(24, 24), size=(0.9e-3, 0.9e-3))
+        return fw.Simulation(grid=grid, material=material, indenter=indenters.Sphere(radius=10e-3),
+                             schedule=schedules.Rolling(load=8.0, velocity=(speed, 0.0), steady=True)
+                             ).run().friction_coefficient[0]
+
+    warm = materials.PMMA.at(306.15, law)
+    hot_speed = 3e-6 / warm.shift_factor
+    assert friction(warm, hot_speed) == pytest.approx(friction(materials.PMMA, 3e-6), rel=1e-6)
+    assert friction(warm, 3e-6) < 0.1 * friction(materials.PMMA, 3e-6)   # at the same speed: nearly relaxed
