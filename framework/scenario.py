@@ -6,7 +6,9 @@ A scenario has the tables ``[grid]``, ``[material]``, ``[indenter]``,
 :func:`inclusions_from_tables`). Objects are
 written as ``type = "ClassName"`` plus their keyword arguments (the same form
 as :func:`framework.config.describe`); a material may instead name a preset
-(``preset = "PMMA"``). Times are a list or a range table
+(``preset = "PMMA"``), and a viscoelastic one may take ``temperature`` [K] with
+a ``shift`` table (``{type = "WLF", c1, c2, reference}`` or ``{type =
+"Arrhenius", activation_energy, reference}``). Times are a list or a range table
 ``{start, stop, count, spacing = "geometric" | "linear", zero = true}``.
 See ``examples/*.toml``.
 
