@@ -49,11 +49,12 @@ GAS_CONSTANT = 8.314462618
 def check_temperatures(temperature, *, name="temperature"):
     """``temperature`` [K] as a float array (any shape), finite and within ``LIMITS["K"]``."""
     try:
-        values = np.asarray(temperature, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{name} must be a temperature in kelvin, got {temperature!r}") from exc
-    if isinstance(temperature, bool) or values.dtype == bool:
+        raw = np.asarray(temperature)
+    except (TypeError, ValueError):   # ragged nested sequences
+        raw = np.asarray(None)
+    if raw.dtype.kind not in "iuf":   # booleans, strings, None, objects, complex
         raise ParameterError(f"{name} must be a temperature in kelvin, got {temperature!r}")
+    values = raw.astype(float)
     low, high = LIMITS["K"]
     bad = ~np.isfinite(values) | (values < low) | (values > high)
     if np.any(bad):
