@@ -289,7 +289,7 @@ class _DynamicProblem:
         self._key, self._solved = None, None
 
     def solve(self, u):
-        """``(A, dA/du, g, residual)`` at the log-times ``u`` (the last call's answer kept)."""
+        """``(A, dA/du, g, residual, g in unit columns)`` at the log-times ``u`` (the last call's answer kept)."""
         key = np.asarray(u, dtype=float).tobytes()
         if key != self._key:
             real, imaginary = maxwell_arm(self.w[:, None], np.exp(np.asarray(u))[None, :])
