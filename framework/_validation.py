@@ -21,6 +21,9 @@ LIMITS = {
     "s": (1e-15, 1e15),    # times: a femtosecond to thirty million years
     "N": (0.0, 1e12),      # loads (a history passes through small values: no lower limit)
     "m/s": (1e-15, 1e9),   # speeds: far slower than any creep test to far faster than any sound wave
+    "rad/s": (1e-15, 1e15),  # angular frequencies: the inverse range of the times
+    "K": (1e-3, 1e5),      # temperatures: a millikelvin to far hotter than any polymer survives
+    "J/mol": (1e-3, 1e9),  # activation energies: far below and above any molecular process
 }
 
 

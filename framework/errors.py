@@ -36,3 +36,11 @@ class ConvergenceError(FrameworkError, RuntimeError):
     def __init__(self, message, result=None):
         super().__init__(message)
         self.result = result
+
+
+class FrameworkWarning(UserWarning):
+    """Base class of the framework's warnings: a result was produced, but read it with care."""
+
+
+class CoverageWarning(FrameworkWarning):
+    """A fit claims more than its data cover, e.g. Prony relaxation times outside the times the data span."""

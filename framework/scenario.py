@@ -6,7 +6,9 @@ A scenario has the tables ``[grid]``, ``[material]``, ``[indenter]``,
 :func:`inclusions_from_tables`). Objects are
 written as ``type = "ClassName"`` plus their keyword arguments (the same form
 as :func:`framework.config.describe`); a material may instead name a preset
-(``preset = "PMMA"``). Times are a list or a range table
+(``preset = "PMMA"``), and a viscoelastic one may take ``temperature`` [K] with
+a ``shift`` table (``{type = "WLF", c1, c2, reference}`` or ``{type =
+"Arrhenius", activation_energy, reference}``). Times are a list or a range table
 ``{start, stop, count, spacing = "geometric" | "linear", zero = true}``.
 See ``examples/*.toml``.
 
@@ -107,25 +109,40 @@ def _times(value, name):
 
 
 def _material(table):
+    """The ``[material]`` table: a described material, a preset, or a creep series (``j0``).
+
+    Any viscoelastic one may carry ``temperature`` [K] and ``shift`` (a WLF or
+    Arrhenius table, ``{type = "WLF", c1, c2, reference}``): its series is then
+    the one at ``shift.reference``, taken to ``temperature`` (as
+    :class:`framework.materials.Viscoelastic` reads them, so that a result's
+    configuration reads back the same).
+    """
+    thermal = {key: build(table[key], name=f"material.{key}") for key in ("temperature", "shift") if key in table}
     if "preset" in table:
-        unknown = set(table) - {"preset", "poisson"}
+        unknown = set(table) - {"preset", "poisson", "temperature", "shift"}
         if unknown:
-            raise ParameterError(f"material: unknown key(s) {sorted(unknown)} with a preset; expected poisson")
+            raise ParameterError(f"material: unknown key(s) {sorted(unknown)} with a preset; expected poisson, "
+                                 f"temperature, shift")
         preset = table["preset"]
         if preset not in PRESETS:
             raise ParameterError(f"material.preset: unknown preset {preset!r}; expected one of {sorted(PRESETS)}")
         material = PRESETS[preset]()
-        if "poisson" in table:
-            material = materials.Viscoelastic.from_prony(e_inf=material.e_inf, terms=material.terms,
-                                                         poisson=table["poisson"])
+        if "poisson" in table or thermal:
+            try:
+                material = materials.Viscoelastic(e_inf=material.e_inf, terms=material.terms,
+                                                  poisson=table.get("poisson", material.poisson), **thermal)
+            except ParameterError as exc:
+                raise ParameterError(f"material: {exc}") from exc
         return material
     if table.get("type") == "Viscoelastic" and "j0" in table:
-        unknown = set(table) - {"type", "j0", "terms", "poisson"}
+        unknown = set(table) - {"type", "j0", "terms", "poisson", "temperature", "shift"}
         if unknown:
-            raise ParameterError(f"material: unknown key(s) {sorted(unknown)}; expected j0, terms, poisson")
+            raise ParameterError(f"material: unknown key(s) {sorted(unknown)}; expected j0, terms, poisson, "
+                                 f"temperature, shift")
         try:
-            return materials.Viscoelastic.from_creep(j0=table["j0"], terms=table.get("terms", []),
-                                                     poisson=table.get("poisson"))
+            material = materials.Viscoelastic.from_creep(j0=table["j0"], terms=table.get("terms", []),
+                                                         poisson=table.get("poisson"))
+            return material.at(thermal.get("temperature"), thermal.get("shift")) if thermal else material
         except ParameterError as exc:
             raise ParameterError(f"material: {exc}") from exc
     return build(table, name="material")

@@ -355,7 +355,7 @@ def test_bad_named_cases_and_times():
     ([0, 1, 2, 3], [4, -3, 2, 1], {}, errors.ParameterError, r"values must be positive .*got values\[1\] = -3.0"),
     ([0, 1, 2, 3], [4, 3, 2], {}, errors.ShapeError, r"values has 3 samples but t has 4"),
     ([0, 1, 2, 3], [4, 3, 2, 1], {"kind": "shear"}, errors.ParameterError,
-     r"kind must be 'relaxation' or 'creep', got 'shear'"),
+     r"kind must be 'relaxation', 'creep' or 'dynamic', got 'shear'"),
     ([0, 1, 2, 3], [4, 3, 2, 1], {"n_terms": 0}, errors.ParameterError, r"n_terms must be an integer >= 1, got 0"),
     ([0, 1, 2, 3], [4, 3, 2, 1], {"n_terms": 5}, errors.ParameterError,
      r"5 Prony times and a constant need at least 6 samples, got 4"),

@@ -1,7 +1,68 @@
-"""What every material gives the time stepper."""
+"""What every material gives the time stepper, and the dynamic moduli they share."""
 from dataclasses import dataclass
 
 import numpy as np
+
+from ..errors import ParameterError
+
+
+def check_frequencies(w, *, name="w"):
+    """Angular frequencies as a float array (any shape): finite and > 0 [rad/s]."""
+    try:
+        w = np.asarray(w, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name} must be real angular frequencies [rad/s], got {type(w).__name__}") from exc
+    bad = ~np.isfinite(w) | (w <= 0)
+    if np.any(bad):
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        raise ParameterError(f"{name} must be positive finite angular frequencies [rad/s] (2 pi times the "
+                             f"frequency in Hz), got {float(w[index])!r} at index {index}")
+    return w
+
+
+def maxwell_arm(w, tau):
+    """Storage and loss parts ``((w tau)^2, w tau) / (1 + (w tau)^2)`` of a Maxwell arm of unit modulus.
+
+    Written as ``1 / (1 + 1/s^2)`` and ``1 / (s + 1/s)`` with ``s = w tau`` so
+    that neither overflows however many decades ``s`` spans.
+    """
+    s = np.asarray(w, dtype=float) * tau
+    with np.errstate(over="ignore", divide="ignore"):
+        return 1.0 / (1.0 + 1.0 / s**2), 1.0 / (s + 1.0 / s)
+
+
+class DynamicModuli:
+    """Dynamic moduli under a harmonic strain ``eps0 exp(i w t)`` (what DMA measures), in tension.
+
+    ``E*(w) = E' + i E'' = e_inf + sum_i E_i (i w tau_i) / (1 + i w tau_i)`` for a
+    generalized Maxwell solid (Ferry 1980, ch. 3; Tschoegl 1989, ch. 4): the
+    Fourier transform ``i w int_0^inf E(t) exp(-i w t) dt`` of its relaxation
+    modulus. Subclasses give ``relaxation_terms`` or override
+    :meth:`complex_modulus`.
+    """
+
+    def complex_modulus(self, w):
+        """``E*(w) = E'(w) + i E''(w)`` [Pa] at angular frequencies ``w > 0`` [rad/s] (any shape)."""
+        w = check_frequencies(w)
+        e_inf, terms = self.relaxation_terms
+        storage, loss = np.full(w.shape, float(e_inf)), np.zeros(w.shape)
+        for modulus, tau in terms:
+            real, imaginary = maxwell_arm(w, tau)
+            storage, loss = storage + modulus * real, loss + modulus * imaginary
+        return storage + 1j * loss
+
+    def storage_modulus(self, w):
+        """``E'(w)`` [Pa]: the part of the stress in phase with the strain (energy stored)."""
+        return self.complex_modulus(w).real
+
+    def loss_modulus(self, w):
+        """``E''(w)`` [Pa]: the part in quadrature (energy dissipated, ``pi E'' eps0^2`` per cycle and volume)."""
+        return self.complex_modulus(w).imag
+
+    def loss_tangent(self, w):
+        """``tan delta = E''/E'``: the phase lag of the strain behind the stress."""
+        modulus = self.complex_modulus(w)
+        return modulus.imag / modulus.real
 
 
 @dataclass(frozen=True)

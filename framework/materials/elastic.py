@@ -5,11 +5,11 @@ import numpy as np
 
 from .._validation import check_poisson, check_quantity
 from .anisotropic import isotropic_tensor
-from .base import ComplianceSeries
+from .base import ComplianceSeries, DynamicModuli, check_frequencies
 
 
 @dataclass(frozen=True)
-class Elastic:
+class Elastic(DynamicModuli):
     """Isotropic linear elastic material.
 
     Parameters
@@ -44,6 +44,10 @@ class Elastic:
     def creep(self, t):
         """Creep compliance ``J(t) = 1/E`` [1/Pa]."""
         return np.full(np.shape(t), 1.0 / self.young)
+
+    def complex_modulus(self, w):
+        """``E*(w) = E`` [Pa] at ``w > 0`` [rad/s]: no loss."""
+        return np.full(check_frequencies(w).shape, self.young + 0j)
 
     def contact_compliance(self):
         """The contact compliance ``C* = (1 - nu^2)/E`` as a series without terms."""

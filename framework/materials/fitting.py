@@ -1,23 +1,42 @@
-"""Prony series fitted to measured relaxation or creep data.
+"""Prony series fitted to measured relaxation, creep or dynamic (DMA) data.
 
-The characteristic times are fixed on a log-spaced grid spanning the data
-(one or two per decade is the usual choice) and the coefficients found by
-non-negative least squares (Lawson & Hanson 1974, :func:`scipy.optimize.nnls`),
-which keeps every modulus or compliance >= 0 and so gives a physically
-admissible (completely monotone) function; Park & Schapery (Int. J. Solids
-Struct. 36, 1999) discuss this collocation approach and the choice of times.
-The residual is weighted by ``1/value`` so that the fit is uniform in relative
-error over data that span decades of time.
+Relaxation and creep: the characteristic times are fixed on a log-spaced grid
+spanning the data (one or two per decade is the usual choice) and the
+coefficients found by non-negative least squares (Lawson & Hanson 1974,
+:func:`scipy.optimize.nnls`), which keeps every modulus or compliance >= 0 and
+so gives a physically admissible (completely monotone) function; Park &
+Schapery (Int. J. Solids Struct. 36, 1999) discuss this collocation approach
+and the choice of times. The residual is weighted by ``1/value`` so that the
+fit is uniform in relative error over data that span decades of time.
+
+Dynamic (DMA) data ``E*(w) = E' + i E''``: the storage and loss moduli of
+``e_inf + sum_i E_i (i w tau_i) / (1 + i w tau_i)`` are fitted together,
+each relative to its own data (residuals ``(E'_fit - E')/E'`` and ``(E''_fit -
+E'')/E''``, so that a small loss modulus weighs as much as the storage
+modulus), and the relaxation times are fitted as well as the moduli, by
+variable projection (Golub & Pereyra, SIAM J. Numer. Anal. 10, 1973; Kaufman's
+Jacobian, BIT 15, 1975): for given times the moduli are the non-negative
+least-squares solution, and :func:`scipy.optimize.least_squares` moves the
+logarithms of the times, starting from times log-spaced over the ``1/w`` the
+data cover.
 """
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import nnls
+from scipy.optimize import least_squares, nnls
 
 from .._validation import check_finite_array, check_poisson, check_positive_int, check_quantity
-from ..errors import ParameterError, ShapeError
+from ..errors import CoverageWarning, ParameterError, ShapeError
+from .base import maxwell_arm
 from .viscoelastic import Viscoelastic
+
+#: Largest loss tangent E''/E' accepted in DMA data: beyond it the data are those of a liquid, or the columns
+#: are swapped or in different units (solid polymers peak at tan delta ~ 0.1 to 3).
+MAX_LOSS_TANGENT = 10.0
+#: How far (decades) beyond the times the data cover a fitted relaxation time may move.
+TIME_MARGIN = 3.0
 
 __all__ = ["PronyFit", "fit_prony"]
 
@@ -29,24 +48,30 @@ class PronyFit:
     Attributes
     ----------
     material : Viscoelastic
-        The fitted material (built with ``from_prony`` for relaxation data and
-        ``from_creep`` for creep data).
+        The fitted material (built with ``from_prony`` for relaxation and
+        dynamic data and ``from_creep`` for creep data).
     kind : str
-        ``"relaxation"`` or ``"creep"``.
+        ``"relaxation"``, ``"creep"`` or ``"dynamic"``.
     constant : float
-        ``e_inf`` [Pa] (relaxation) or ``j0`` [1/Pa] (creep).
+        ``e_inf`` [Pa] (relaxation, dynamic) or ``j0`` [1/Pa] (creep).
     terms : tuple
         The retained terms ``((E_i [Pa], tau_i [s]), ...)`` or
         ``((J_k [1/Pa], lambda_k [s]), ...)``; times whose coefficient came out
         zero are dropped.
     times : numpy.ndarray
-        Every time of the grid the fit was allowed to use [s].
+        Every time of the grid the fit was allowed to use [s] (dynamic: the
+        fitted relaxation times, those of zero modulus included).
     fitted : numpy.ndarray
-        The fitted function at the data times [Pa or 1/Pa].
+        The fitted function at the data times [Pa or 1/Pa] (dynamic: ``E*`` at
+        the data frequencies, complex [Pa]).
     rms_error : float
-        Root-mean-square of ``fitted - values`` [Pa or 1/Pa].
+        Root-mean-square of ``|fitted - values|`` [Pa or 1/Pa].
     max_relative_error : float
-        ``max |fitted - values| / values``.
+        ``max |fitted - values| / values`` (dynamic: the largest of
+        ``|E'_fit - E'| / E'`` and ``|E''_fit - E''| / E''``).
+    rms_relative_error : float
+        Root-mean-square of the relative residuals the fit minimised (dynamic:
+        over both moduli): about the data's relative noise for a good fit.
     """
 
     material: Viscoelastic
@@ -57,6 +82,7 @@ class PronyFit:
     fitted: np.ndarray
     rms_error: float
     max_relative_error: float
+    rms_relative_error: float
 
 
 def _check_data(t, values):
@@ -106,25 +132,36 @@ def _time_grid(t, n_terms, times):
 
 
 def fit_prony(t, values, kind="relaxation", n_terms=None, times=None, *, poisson):
-    """Fit a Prony series to relaxation or creep data by non-negative least squares.
+    """Fit a Prony series to relaxation, creep or dynamic (DMA) data.
 
     Relaxation: ``E(t) = e_inf + sum_i E_i exp(-t/tau_i)``; creep:
     ``J(t) = j0 + sum_k J_k (1 - exp(-t/lambda_k))``, with the times fixed and
     the coefficients >= 0 minimising ``sum ((model - values)/values)^2``.
+    Dynamic: ``fit_prony(frequencies, complex_modulus, kind="dynamic", ...)``
+    fits ``E*(w) = e_inf + sum_i E_i (i w tau_i) / (1 + i w tau_i)`` to the
+    storage and loss moduli together, times and moduli both (module docstring),
+    and warns (:class:`~framework.errors.CoverageWarning`) when a retained
+    relaxation time lies outside ``1/w_max .. 1/w_min``, the times the data cover.
 
     Parameters
     ----------
     t : array_like
-        Sample times [s], >= 0 and strictly increasing.
+        Sample times [s], >= 0 and strictly increasing; for ``kind="dynamic"``
+        the angular frequencies ``w`` [rad/s], > 0, in any order (the points of
+        several temperatures of a master curve may interleave).
     values : array_like
-        Measured relaxation modulus [Pa] or creep compliance [1/Pa], > 0.
-    kind : {"relaxation", "creep"}
+        Measured relaxation modulus [Pa] or creep compliance [1/Pa], > 0; for
+        ``kind="dynamic"`` the complex modulus ``E' + 1j * E''`` [Pa] with both
+        parts > 0 and ``E''/E' <= 10``.
+    kind : {"relaxation", "creep", "dynamic"}
         What ``values`` holds.
     n_terms : int, optional
         Number of Prony times, log-spaced from the smallest positive to the
-        largest sample time. Default: one per decade of the data.
+        largest sample time (dynamic: over ``1/w_max .. 1/w_min``, the starting
+        times). Default: one per decade of the data.
     times : array_like, optional
-        The Prony times [s] to use instead of the log-spaced grid.
+        The Prony times [s] to use instead of the log-spaced grid (dynamic: the
+        starting times, fitted further).
     poisson : float
         Poisson ratio of the material (keyword, required), in (-1, 0.5].
 
@@ -139,10 +176,14 @@ def fit_prony(t, values, kind="relaxation", n_terms=None, times=None, *, poisson
         Bad data or settings, or a fit with zero ``e_inf`` (data of a fluid:
         see :class:`~framework.materials.Maxwell`) or zero ``j0`` (see
         :class:`~framework.materials.KelvinVoigt`).
+    ShapeError
+        ``values`` and ``t`` of different lengths.
     """
-    if kind not in ("relaxation", "creep"):
-        raise ParameterError(f"kind must be 'relaxation' or 'creep', got {kind!r}")
+    if kind not in ("relaxation", "creep", "dynamic"):
+        raise ParameterError(f"kind must be 'relaxation', 'creep' or 'dynamic', got {kind!r}")
     check_poisson(poisson)
+    if kind == "dynamic":
+        return _fit_dynamic(t, values, n_terms, times, poisson)
     t, values = _check_data(t, values)
     grid = _time_grid(t, n_terms, times)
     if t.size < grid.size + 1:
@@ -173,4 +214,176 @@ def fit_prony(t, values, kind="relaxation", n_terms=None, times=None, *, poisson
     residual = fitted - values
     return PronyFit(material=material, kind=kind, constant=constant, terms=terms, times=grid, fitted=fitted,
                     rms_error=float(np.sqrt(np.mean(residual**2))),
-                    max_relative_error=float(np.max(np.abs(residual) / values)))
+                    max_relative_error=float(np.max(np.abs(residual) / values)),
+                    rms_relative_error=float(np.sqrt(np.mean((residual / values)**2))))
+
+
+# --------------------------------------------------------------------------- dynamic (DMA) data
+
+def check_dynamic(frequencies, complex_modulus):
+    """DMA data as ``(w [rad/s], E' [Pa], E'' [Pa])`` float arrays, or a ParameterError naming the bad sample.
+
+    ``frequencies``: one-dimensional, finite, > 0; ``complex_modulus``: complex
+    ``E' + i E''`` of the same length, both parts > 0, ``E''/E' <= 10``
+    (:data:`MAX_LOSS_TANGENT`).
+    """
+    w = check_finite_array(frequencies, name="frequencies", ndim=1)
+    modulus = np.asarray(complex_modulus)
+    if not np.iscomplexobj(modulus):
+        raise ParameterError(f"complex_modulus must be complex, E' + 1j * E'' [Pa] (storage plus i times loss "
+                             f"modulus), got a {modulus.dtype} array: real data carry no loss modulus")
+    if modulus.ndim != 1:
+        raise ShapeError(f"complex_modulus must have 1 dimension, got shape {modulus.shape}")
+    if modulus.shape != w.shape:
+        raise ShapeError(f"complex_modulus has {modulus.size} samples but frequencies has {w.size}; "
+                         f"expected one complex modulus per frequency")
+    if not np.all(np.isfinite(modulus)):
+        i = int(np.argmax(~np.isfinite(modulus)))
+        raise ParameterError(f"complex_modulus must be finite everywhere, got {modulus[i]!r} at index {i}")
+    if np.any(w <= 0):
+        i = int(np.argmax(w <= 0))
+        raise ParameterError(f"frequencies must be positive angular frequencies [rad/s], got frequencies[{i}] = "
+                             f"{float(w[i])!r}")
+    storage, loss = modulus.real.astype(float), modulus.imag.astype(float)
+    for part, values in (("storage modulus E' (real part)", storage), ("loss modulus E'' (imaginary part)", loss)):
+        if np.any(values <= 0):
+            i = int(np.argmax(values <= 0))
+            raise ParameterError(f"complex_modulus[{i}]: the {part} must be positive [Pa], got {float(values[i])!r}")
+    tangent = loss / storage
+    if np.any(tangent > MAX_LOSS_TANGENT):
+        i = int(np.argmax(tangent > MAX_LOSS_TANGENT))
+        raise ParameterError(
+            f"complex_modulus[{i}]: loss tangent E''/E' = {float(tangent[i]):.6g} exceeds {MAX_LOSS_TANGENT:g}, more "
+            f"than a solid's DMA data show (E' = {float(storage[i])!r}, E'' = {float(loss[i])!r} Pa); expected E' + "
+            f"1j * E'' with both in Pa: check that the columns are not swapped or in different units")
+    return w, storage, loss
+
+
+def _start_times(covered, n_terms, times):
+    """Starting relaxation times [s]: ``times`` checked, or ``n_terms`` log-spaced over ``covered``."""
+    if times is not None:
+        return _time_grid(None, n_terms, times)
+    low, high = covered
+    if n_terms is None:
+        n_terms = max(1, math.ceil(math.log10(high / low) - 1e-9))
+    n_terms = check_positive_int(n_terms, name="n_terms")
+    # the centres of n_terms equal decades-wide cells: no time starts at the data's very edge
+    return np.exp(math.log(low) + (np.arange(n_terms) + 0.5) / n_terms * math.log(high / low))
+
+
+class _DynamicProblem:
+    """Variable projection for ``E*(w) = e_inf + sum_i E_i (i w tau_i)/(1 + i w tau_i)`` in ``u_i = ln tau_i``.
+
+    Rows: the storage moduli, then the loss moduli, each divided by its datum;
+    columns: ``e_inf``, then one Maxwell arm per time. For given times the
+    moduli are the non-negative least-squares solution; the residual
+    ``A(u) g(u) - 1`` is what :func:`scipy.optimize.least_squares` minimises
+    over ``u``, with Kaufman's Jacobian ``P dA/du g`` (``P`` the projection off
+    the columns in use).
+    """
+
+    def __init__(self, w, storage, loss):
+        self.w = w
+        self.scale = np.concatenate([1.0 / storage, 1.0 / loss])
+        self.target = np.ones(2 * w.size)
+        self._key, self._solved = None, None
+
+    def solve(self, u):
+        """``(A, dA/du, g, residual, g in unit columns)`` at the log-times ``u`` (the last call's answer kept)."""
+        key = np.asarray(u, dtype=float).tobytes()
+        if key != self._key:
+            real, imaginary = maxwell_arm(self.w[:, None], np.exp(np.asarray(u))[None, :])
+            ones, zeros = np.ones((self.w.size, 1)), np.zeros((self.w.size, 1))
+            columns = np.vstack([np.hstack([ones, real]), np.hstack([zeros, imaginary])]) * self.scale[:, None]
+            # d/du of s^2/(1+s^2) and s/(1+s^2), s = w exp(u), in terms of the two
+            slopes = np.vstack([2.0 * real * (1.0 - real), imaginary * (1.0 - 2.0 * real)]) * self.scale[:, None]
+            norms = np.linalg.norm(columns, axis=0)
+            norms[norms == 0] = 1.0
+            unit, _ = nnls(columns / norms, self.target, maxiter=50 * columns.shape[1])
+            weights = unit / norms
+            self._key = key
+            self._solved = (columns, slopes, weights, columns @ weights - self.target, unit)
+        return self._solved
+
+    def residual(self, u):
+        return self.solve(u)[3]
+
+    def jacobian(self, u):
+        columns, slopes, weights, _, _ = self.solve(u)
+        basis, _ = np.linalg.qr(columns[:, weights > 0])
+        derivative = slopes * weights[1:][None, :]
+        return derivative - basis @ (basis.T @ derivative)
+
+
+def _spectrum_start(problem, covered, n_terms):
+    """Log-times where a non-negative fit on a fine grid (4 per decade) puts its weight, as ``n_terms`` starts.
+
+    A second start for the variable projection: the log-spaced start can leave
+    two true times in one cell and a term stranded where its modulus vanishes
+    (a local minimum); the fine fixed-time fit puts its moduli around every
+    time the data show. Its peaks (runs of neighbouring grid times) are ranked
+    by their weight in the relative residual (the solver's unit columns), the
+    heaviest ``n_terms`` kept, each started at its weighted mean; with fewer
+    peaks than terms the grid times are cut at their widest gaps instead. None
+    when the fine fit uses fewer than ``n_terms`` times.
+    """
+    grid = np.log(np.geomspace(covered[0], covered[1], max(2, round(4 * math.log10(covered[1] / covered[0])) + 1)))
+    weight = problem.solve(grid)[4][1:]
+    used = np.flatnonzero(weight > 0)
+    if used.size < n_terms:
+        return None
+    peaks = np.split(used, np.flatnonzero(np.diff(used) > 1) + 1)
+    if len(peaks) >= n_terms:
+        groups = sorted(peaks, key=lambda peak: -weight[peak].sum())[:n_terms]
+    else:
+        groups = np.split(used, np.sort(np.argsort(np.diff(grid[used]))[used.size - n_terms:]) + 1)
+    return np.sort([np.average(grid[group], weights=weight[group]) for group in groups])
+
+
+def _fit_dynamic(frequencies, complex_modulus, n_terms, times, poisson):
+    """:func:`fit_prony` for ``kind="dynamic"`` (see there and the module docstring)."""
+    w, storage, loss = check_dynamic(frequencies, complex_modulus)
+    covered = (1.0 / float(w.max()), 1.0 / float(w.min()))
+    start = _start_times(covered, n_terms, times)
+    if w.size < start.size + 1:
+        raise ParameterError(
+            f"{start.size} Prony terms (a modulus and a time each) and e_inf need at least {start.size + 1} "
+            f"frequencies (two moduli each), got {w.size}; lower n_terms or add data")
+    u0 = np.log(start)
+    margin = TIME_MARGIN * math.log(10.0)
+    lower = min(math.log(covered[0]) - margin, float(u0.min()))
+    upper = max(math.log(covered[1]) + margin, float(u0.max()))
+    problem = _DynamicProblem(w, storage, loss)
+    starts = [u0] if times is not None else [u0, _spectrum_start(problem, covered, start.size)]
+    solution = min((least_squares(problem.residual, np.clip(u, lower, upper), jac=problem.jacobian,
+                                  bounds=(lower, upper), method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                                  max_nfev=100 * (start.size + 1))
+                    for u in starts if u is not None), key=lambda solved: solved.cost)
+    _, _, weights, _, unit = problem.solve(solution.x)
+    # a unit column carrying less than 1e-12 of the (unit) weighted data is round-off: drop it
+    weights = np.where(unit > 1e-12 * math.sqrt(2 * w.size), weights, 0.0)
+    fitted_times = [float(tau) for tau in np.exp(solution.x)]
+    merged = {}
+    for modulus, tau in zip(weights[1:], fitted_times):   # two times that met are one term
+        key = next((other for other in merged if abs(other - tau) <= 1e-12 * tau), tau)
+        merged[key] = merged.get(key, 0.0) + float(modulus)
+    terms = tuple(sorted(((modulus, tau) for tau, modulus in merged.items() if modulus > 0), key=lambda p: p[1]))
+    e_inf = float(weights[0])
+    if e_inf <= 0:
+        raise ParameterError(f"the fitted e_inf is {e_inf!r}: the data show no relaxed (rubbery or glassy low-frequency) "
+                             f"modulus, as a fluid's do: use materials.Maxwell, or extend the data to lower "
+                             f"frequencies (a master curve)")
+    outside = [tau for _, tau in terms if not covered[0] <= tau <= covered[1]]
+    if outside:
+        warnings.warn(
+            f"fit_prony: the fitted relaxation time(s) {', '.join(f'{tau:.4g}' for tau in outside)} s lie outside "
+            f"1/w_max .. 1/w_min = {covered[0]:.4g} .. {covered[1]:.4g} s, the times the data cover: their moduli "
+            f"are extrapolated; widen the frequency range (a master curve) or lower n_terms",
+            CoverageWarning, stacklevel=3)
+    material = Viscoelastic.from_prony(e_inf=e_inf, terms=terms, poisson=poisson)
+    fitted = material.complex_modulus(w)
+    relative = np.concatenate([(fitted.real - storage) / storage, (fitted.imag - loss) / loss])
+    return PronyFit(material=material, kind="dynamic", constant=e_inf, terms=terms, times=np.sort(fitted_times),
+                    fitted=fitted, rms_error=float(np.sqrt(np.mean(np.abs(fitted - (storage + 1j * loss))**2))),
+                    max_relative_error=float(np.max(np.abs(relative))),
+                    rms_relative_error=float(np.sqrt(np.mean(relative**2))))

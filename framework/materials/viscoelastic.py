@@ -82,7 +82,8 @@ from scipy.optimize import brentq
 
 from .._validation import LIMITS, check_poisson, check_positive, check_quantity, check_real
 from ..errors import ParameterError
-from .base import ComplianceSeries
+from .base import ComplianceSeries, DynamicModuli, check_frequencies
+from .temperature import Shift, check_temperatures
 
 __all__ = ["KelvinVoigt", "Maxwell", "PMMA", "StandardLinearSolid", "Viscoelastic"]
 
@@ -247,8 +248,20 @@ def _creep_to_relaxation(j0, terms):
 
 # --------------------------------------------------------------------------- materials
 
+def _scaled(terms, factor):
+    """Prony terms ``((coefficient, time), ...)`` with every time multiplied by ``factor`` (exact for 1)."""
+    return tuple((value, time * factor) for value, time in terms)
+
+
+def _check_shift(shift):
+    if not isinstance(shift, Shift):
+        raise ParameterError(f"shift must be a time-temperature shift, materials.WLF(c1, c2, reference) or "
+                             f"materials.Arrhenius(activation_energy, reference), got {shift!r}")
+    return shift
+
+
 @dataclass(frozen=True)
-class Viscoelastic:
+class Viscoelastic(DynamicModuli):
     """Isotropic linear viscoelastic solid (generalized Maxwell / Wiechert) with constant Poisson ratio.
 
     Relaxation modulus (tension) ``E(t) = e_inf + sum_i E_i exp(-t/tau_i)`` and
@@ -269,17 +282,32 @@ class Viscoelastic:
         distinct. Stored sorted by ascending ``tau_i``. May be empty (elastic).
     poisson : float
         Constant Poisson ratio in (-1, 0.5].
+    temperature : float, optional
+        The material's temperature [K]; needs ``shift``. Default: the shift's
+        reference temperature (None without a shift).
+    shift : materials.WLF or materials.Arrhenius, optional
+        Time-temperature shift. With one, ``e_inf`` and ``terms`` describe the
+        solid at ``shift.reference`` (its master curve) and the solid itself,
+        at ``temperature``, has every relaxation time multiplied by
+        ``a_T = shift.factor(temperature)``, moduli unchanged
+        (:mod:`framework.materials.temperature`): :attr:`relaxation_terms`,
+        :attr:`creep_terms`, :meth:`relaxation`, :meth:`creep`,
+        :meth:`complex_modulus` and the contact all use the shifted times.
+        Build it with :meth:`at`.
 
     Moduli lie between 1e-3 and 1e15 Pa (a term's modulus may be smaller: a term
     too weak to resolve in double precision is refused by name) and times
-    between 1e-15 and 1e15 s (``framework._validation.LIMITS``).
+    between 1e-15 and 1e15 s (``framework._validation.LIMITS``), shifted or not.
     """
 
     e_inf: float
     terms: tuple
     poisson: float
+    temperature: float = None
+    shift: object = None
     _j0: float = field(init=False, repr=False, compare=False)
-    _creep: tuple = field(init=False, repr=False, compare=False)
+    _creep: tuple = field(init=False, repr=False, compare=False)   # of ``terms``: unshifted
+    _factor: float = field(init=False, repr=False, compare=False)  # a_T at ``temperature``
 
     def __post_init__(self):
         e_inf = check_real(self.e_inf, name="e_inf")
@@ -292,9 +320,33 @@ class Viscoelastic:
                            _check_terms(self.terms, name="terms", coefficient="modulus", unit="Pa",
                                         time="relaxation time"))
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
+        object.__setattr__(self, "_factor", self._shift_factor())
         j0, creep = _relaxation_to_creep(self.e_inf, self.terms)
         object.__setattr__(self, "_j0", j0)
         object.__setattr__(self, "_creep", creep)
+
+    def _shift_factor(self):
+        """Check ``temperature`` and ``shift`` (the temperature defaults to the reference); return ``a_T``."""
+        if self.shift is None:
+            if self.temperature is not None:
+                raise ParameterError(
+                    f"temperature needs a shift: give shift = materials.WLF(c1, c2, reference) or "
+                    f"materials.Arrhenius(activation_energy, reference), which says how the times change with "
+                    f"temperature, got temperature = {self.temperature!r} and no shift")
+            return 1.0
+        _check_shift(self.shift)
+        if self.temperature is None:
+            object.__setattr__(self, "temperature", self.shift.reference)
+        object.__setattr__(self, "temperature", float(check_temperatures(self.temperature)))
+        factor = self.shift.factor(self.temperature)
+        low, high = LIMITS["s"]
+        for i, (_, tau) in enumerate(self.terms):
+            if not low <= tau * factor <= high:
+                raise ParameterError(
+                    f"temperature: at {self.temperature:g} K the shift factor a_T = {factor:.6g} takes the relaxation "
+                    f"time terms[{i}] = {tau:g} s to {tau * factor:.6g} s, outside the {low:g} to {high:g} s this "
+                    f"framework accepts; expected a temperature nearer the shift's reference {self.shift.reference:g} K")
+        return factor
 
     @classmethod
     def from_prony(cls, e_inf, terms, poisson):
@@ -348,25 +400,69 @@ class Viscoelastic:
         object.__setattr__(material, "_creep", terms)
         return material
 
+    def at(self, temperature, shift=None):
+        """The same solid at ``temperature`` [K]: every time multiplied by the shift factor, moduli unchanged.
+
+        The relaxation times become ``tau_i a_T(temperature) / a_T(self.temperature)``
+        (the retardation times likewise: the creep series scales exactly), so
+        that ``m.at(T1, s).at(T2, s) == m.at(T2, s)``. A material without a
+        temperature is taken to be at the shift's reference. No vertical shift
+        of the moduli is applied (:mod:`framework.materials.temperature`).
+
+        Parameters
+        ----------
+        temperature : float
+            Temperature [K].
+        shift : materials.WLF or materials.Arrhenius, optional
+            The shift function; default: the material's own. A new one takes
+            the solid from its present temperature with the new law.
+
+        Returns
+        -------
+        Viscoelastic
+            With ``temperature`` and ``shift`` set; its ``terms`` stay those at
+            ``shift.reference``, :attr:`relaxation_terms` gives the shifted ones.
+        """
+        shift = self.shift if shift is None else _check_shift(shift)
+        if shift is None:
+            raise ParameterError("shift: this material carries no time-temperature shift; pass one, "
+                                 "materials.WLF(c1, c2, reference) or materials.Arrhenius(activation_energy, "
+                                 "reference)")
+        terms, creep = self.terms, self._creep
+        if self.shift is not None and shift != self.shift:
+            # the series at the material's temperature, expressed at the new law's reference
+            ratio = self._factor / shift.factor(self.temperature)
+            terms, creep = _scaled(terms, ratio), _scaled(creep, ratio)
+        material = Viscoelastic(e_inf=self.e_inf, terms=terms, poisson=self.poisson, temperature=temperature,
+                                shift=shift)
+        object.__setattr__(material, "_j0", self._j0)   # keep a creep series given as such (from_creep)
+        object.__setattr__(material, "_creep", creep)
+        return material
+
+    @property
+    def shift_factor(self):
+        """``a_T`` at the material's temperature (1 without a shift): the factor on every time of ``terms``."""
+        return self._factor
+
     @property
     def relaxation_terms(self):
-        """``(e_inf [Pa], ((E_i [Pa], tau_i [s]), ...))``, ascending ``tau_i``."""
-        return self.e_inf, self.terms
+        """``(e_inf [Pa], ((E_i [Pa], tau_i [s]), ...))`` at the material's temperature, ascending ``tau_i``."""
+        return self.e_inf, _scaled(self.terms, self._factor)
 
     @property
     def creep_terms(self):
-        """``(j0 [1/Pa], ((J_k [1/Pa], lambda_k [s]), ...))``, ascending ``lambda_k``."""
-        return self._j0, self._creep
+        """``(j0 [1/Pa], ((J_k [1/Pa], lambda_k [s]), ...))`` at the material's temperature, ascending ``lambda_k``."""
+        return self._j0, _scaled(self._creep, self._factor)
 
     @property
     def relaxation_times(self):
-        """The ``tau_i`` [s] as an array."""
-        return np.array([tau for _, tau in self.terms], dtype=float)
+        """The ``tau_i`` [s] at the material's temperature, as an array."""
+        return np.array([tau for _, tau in self.terms], dtype=float) * self._factor
 
     @property
     def retardation_times(self):
-        """The ``lambda_k`` [s] as an array."""
-        return np.array([lam for _, lam in self._creep], dtype=float)
+        """The ``lambda_k`` [s] at the material's temperature, as an array."""
+        return np.array([lam for _, lam in self._creep], dtype=float) * self._factor
 
     @property
     def instantaneous_modulus(self):
@@ -391,26 +487,27 @@ class Viscoelastic:
         """Relaxation modulus ``E(t)`` [Pa] at times ``t >= 0`` [s] (any shape)."""
         t = _check_times(t)
         value = np.full(t.shape, self.e_inf)
-        for modulus, tau in self.terms:
+        for modulus, tau in self.relaxation_terms[1]:
             value = value + modulus * np.exp(-t / tau)
         return value
 
     def creep(self, t):
         """Creep compliance ``J(t)`` [1/Pa] at times ``t >= 0`` [s] (any shape; ``inf`` allowed)."""
         t = _check_times(t)
-        value = np.full(t.shape, self._j0)
-        for compliance, lam in self._creep:
+        j0, creep = self.creep_terms
+        value = np.full(t.shape, j0)
+        for compliance, lam in creep:
             value = value + compliance * -np.expm1(-t / lam)
         return value
 
     def contact_compliance(self):
         """``C*(t) = (1 - nu^2) J(t)`` as a :class:`ComplianceSeries` [1/Pa]."""
         factor = 1.0 - self.poisson**2
-        return ComplianceSeries(c0=factor * self._j0,
-                                terms=tuple((factor * j, lam) for j, lam in self._creep))
+        j0, creep = self.creep_terms
+        return ComplianceSeries(c0=factor * j0, terms=tuple((factor * j, lam) for j, lam in creep))
 
 
-def StandardLinearSolid(e_inf, e_1, tau, poisson):  # noqa: N802 - a named material, called like a class
+def StandardLinearSolid(e_inf, e_1, tau, poisson, temperature=None, shift=None):  # noqa: N802 - a named material
     """Standard linear solid (Zener): a spring ``e_inf`` parallel to a Maxwell arm ``(e_1, tau)``.
 
     ``E(t) = e_inf + e_1 exp(-t/tau)`` and
@@ -428,6 +525,11 @@ def StandardLinearSolid(e_inf, e_1, tau, poisson):  # noqa: N802 - a named mater
         Relaxation time of the arm [s], > 0.
     poisson : float
         Poisson ratio in (-1, 0.5].
+    temperature, shift : optional
+        As for :class:`Viscoelastic`: ``tau`` is then the time at ``shift.reference``.
+
+    Its dynamic modulus peaks in loss at ``w = 1 / sqrt(tau lambda)``, where
+    ``tan delta = e_1 / (2 sqrt(e_inf (e_inf + e_1)))``.
 
     Returns
     -------
@@ -436,16 +538,17 @@ def StandardLinearSolid(e_inf, e_1, tau, poisson):  # noqa: N802 - a named mater
     """
     e_1 = check_quantity(e_1, name="e_1", unit="Pa")
     tau = check_quantity(tau, name="tau", unit="s")
-    return Viscoelastic.from_prony(e_inf=e_inf, terms=[(e_1, tau)], poisson=poisson)
+    return Viscoelastic(e_inf=e_inf, terms=[(e_1, tau)], poisson=poisson, temperature=temperature, shift=shift)
 
 
 @dataclass(frozen=True)
-class Maxwell:
+class Maxwell(DynamicModuli):
     """Maxwell fluid: a spring ``young`` in series with a dashpot ``young * relaxation_time``.
 
     ``E(t) = E exp(-t/tau)`` and ``J(t) = 1/E + t / (E tau)``: the creep grows
     without bound, so it is no bounded Prony series; :meth:`contact_compliance`
-    returns a :class:`ComplianceSeries` with the linear ``flow`` term.
+    returns a :class:`ComplianceSeries` with the linear ``flow`` term. Dynamic
+    modulus ``E*(w) = E (i w tau) / (1 + i w tau)``: ``tan delta = 1 / (w tau)``.
 
     Parameters
     ----------
@@ -517,7 +620,7 @@ class Maxwell:
 
 
 @dataclass(frozen=True)
-class KelvinVoigt:
+class KelvinVoigt(DynamicModuli):
     """Kelvin-Voigt solid: a spring ``young`` parallel to a dashpot ``viscosity``.
 
     ``J(t) = (1/E)(1 - exp(-t/lambda))`` with ``lambda = eta/E``: no
@@ -593,6 +696,11 @@ class KelvinVoigt:
         """``C*(t) = (1 - nu^2) J(t)`` as a :class:`ComplianceSeries` with ``c0 = 0`` [1/Pa]."""
         factor = 1.0 - self.poisson**2
         return ComplianceSeries(c0=0.0, terms=((factor / self.young, self.retardation_time),))
+
+    def complex_modulus(self, w):
+        """``E*(w) = E + i w eta`` [Pa] at ``w > 0`` [rad/s]: the dashpot's delta gives the loss."""
+        w = check_frequencies(w)
+        return self.young + 1j * (w * self.viscosity)
 
 
 #: Polymethyl methacrylate of Spinu & Cerlinca (seed 001, eq. 2): a two-term

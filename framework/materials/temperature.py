@@ -1,0 +1,225 @@
+"""Time-temperature superposition: the shift functions of thermorheologically simple solids.
+
+A thermorheologically simple solid has at the temperature ``T`` the response
+it has at a reference temperature ``T_ref`` with every time multiplied by the
+shift factor ``a_T`` (Ferry, *Viscoelastic Properties of Polymers*, 3rd ed.
+1980, ch. 11; Tschoegl 1989, ch. 6)::
+
+    E(t; T) = E(t / a_T; T_ref),        E*(w; T) = E*(w a_T; T_ref),
+
+so that a Prony series keeps its moduli and takes the relaxation (and
+retardation) times ``tau_i(T) = a_T tau_i(T_ref)``: ``a_T < 1`` above
+``T_ref`` (the material relaxes faster), ``a_T > 1`` below it. Temperatures
+are in kelvin.
+
+The moduli are NOT shifted. The entropy-elasticity correction (Ferry's
+vertical shift: moduli scaled by ``T rho / (T_ref rho_ref)``, a few percent over
+tens of kelvin) is not applied anywhere; scale the moduli yourself when your
+data call for it.
+
+WLF (Williams, Landel & Ferry, J. Am. Chem. Soc. 77, 3701, 1955), from about
+the glass transition up::
+
+    log10 a_T = -c1 (T - T_ref) / (c2 + T - T_ref)
+
+(decimal logarithm), singular at ``T - T_ref = -c2``: temperatures at or below
+``T_ref - c2`` are refused. Arrhenius, below the glass transition or for a
+secondary relaxation::
+
+    ln a_T = (E_a / R) (1/T - 1/T_ref)
+
+(natural logarithm), ``E_a`` [J/mol], ``R`` = :data:`GAS_CONSTANT` =
+8.314462618 J/(mol K) (CODATA 2018, exact).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from .._validation import LIMITS, check_finite_array, check_positive, check_quantity
+from ..errors import ParameterError, ShapeError
+
+__all__ = ["Arrhenius", "GAS_CONSTANT", "Shift", "WLF", "check_temperatures"]
+
+#: Molar gas constant R [J/(mol K)] (CODATA 2018: exact, from the Boltzmann and Avogadro constants).
+GAS_CONSTANT = 8.314462618
+
+
+def check_temperatures(temperature, *, name="temperature"):
+    """``temperature`` [K] as a float array (any shape), finite and within ``LIMITS["K"]``."""
+    try:
+        raw = np.asarray(temperature)
+    except (TypeError, ValueError):   # ragged nested sequences
+        raw = np.asarray(None)
+    if raw.dtype.kind not in "iuf":   # booleans, strings, None, objects, complex
+        raise ParameterError(f"{name} must be a temperature in kelvin, got {temperature!r}")
+    values = raw.astype(float)
+    low, high = LIMITS["K"]
+    bad = ~np.isfinite(values) | (values < low) | (values > high)
+    if np.any(bad):
+        index = tuple(int(i) for i in np.argwhere(bad)[0])
+        where = f" at index {index}" if values.ndim else ""
+        raise ParameterError(f"{name} must be a temperature in kelvin between {low:g} and {high:g} K, "
+                             f"got {float(values[index])!r}{where}")
+    return values
+
+
+def _scalar_or_array(values, like):
+    return float(values) if np.ndim(like) == 0 else values
+
+
+class Shift:
+    """A shift function ``a_T(T)`` with ``a_T(reference) = 1``: the base of :class:`WLF` and :class:`Arrhenius`."""
+
+    reference: float
+
+    def log10_factor(self, temperature):
+        """``log10 a_T`` at ``temperature`` [K] (a float, or an array for an array)."""
+        raise NotImplementedError
+
+    def factor(self, temperature):
+        """The shift factor ``a_T`` at ``temperature`` [K]: every time of the material is multiplied by it."""
+        with np.errstate(over="ignore"):
+            return _scalar_or_array(10.0 ** np.asarray(self.log10_factor(temperature)), temperature)
+
+
+def _check_factors(temperatures, factors, reference):
+    """Data of the ``fit`` classmethods: temperatures [K], shift factors > 0, and the reference."""
+    temperatures = check_temperatures(check_finite_array(temperatures, name="temperatures", ndim=1),
+                                      name="temperatures")
+    factors = check_finite_array(factors, name="factors", ndim=1)
+    if factors.shape != temperatures.shape:
+        raise ShapeError(f"factors has {factors.size} values but temperatures has {temperatures.size}; "
+                         f"expected one shift factor per temperature")
+    if np.any(factors <= 0):
+        i = int(np.argmax(factors <= 0))
+        raise ParameterError(f"factors must be positive shift factors a_T, got factors[{i}] = {float(factors[i])!r}")
+    reference = float(check_temperatures(reference, name="reference"))
+    informative = temperatures != reference   # a_T(T_ref) = 1 says nothing about the constants
+    return temperatures[informative] - reference, np.log10(factors[informative]), reference
+
+
+@dataclass(frozen=True)
+class WLF(Shift):
+    """Williams-Landel-Ferry shift: ``log10 a_T = -c1 (T - T_ref) / (c2 + T - T_ref)``.
+
+    Parameters
+    ----------
+    c1 : float
+        Dimensionless constant, > 0 (17.44 for many polymers with ``T_ref = Tg``).
+    c2 : float
+        Temperature constant [K], > 0 (51.6 K for many polymers with ``T_ref = Tg``).
+    reference : float
+        Reference temperature ``T_ref`` [K], where ``a_T = 1``.
+
+    Williams, Landel & Ferry, J. Am. Chem. Soc. 77, 3701 (1955). Temperatures
+    with ``T - T_ref <= -c2`` (where the law is singular) are refused; the law
+    holds from about the glass transition up (below it use :class:`Arrhenius`).
+    """
+
+    c1: float
+    c2: float
+    reference: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "c1", check_positive(self.c1, name="c1"))
+        object.__setattr__(self, "c2", check_positive(self.c2, name="c2", unit="K"))
+        object.__setattr__(self, "reference", float(check_temperatures(self.reference, name="reference")))
+
+    def log10_factor(self, temperature):
+        """``log10 a_T = -c1 (T - T_ref) / (c2 + T - T_ref)`` at ``temperature`` [K]."""
+        values = check_temperatures(temperature)
+        difference = values - self.reference
+        singular = difference <= -self.c2
+        if np.any(singular):
+            index = tuple(int(i) for i in np.argwhere(singular)[0])
+            raise ParameterError(
+                f"temperature must lie above T_ref - c2 = {self.reference - self.c2:.6g} K, where the WLF shift "
+                f"log10 a_T = -c1 (T - T_ref) / (c2 + T - T_ref) is singular (T - T_ref <= -c2, with "
+                f"c2 = {self.c2:g} K and T_ref = {self.reference:g} K), got {float(values[index])!r} K; below the "
+                f"glass transition use materials.Arrhenius")
+        return _scalar_or_array(-self.c1 * difference / (self.c2 + difference), temperature)
+
+    @classmethod
+    def fit(cls, temperatures, factors, reference):
+        """The WLF law through measured shift factors, by least squares in ``log10 a_T``.
+
+        The linear form ``c2 y + c1 x = -x y`` (``x = T - T_ref``, ``y = log10
+        a_T``) gives the start, exact for exact data; ``scipy.optimize.
+        least_squares`` then minimises ``sum (log10 a_model - y)^2`` with
+        ``c1 > 0`` and ``c2 > max(T_ref - T)`` (the singularity below every
+        temperature).
+
+        Parameters
+        ----------
+        temperatures : array_like
+            Temperatures [K].
+        factors : array_like
+            Shift factors ``a_T`` (not their logarithms) at those temperatures, > 0.
+        reference : float
+            ``T_ref`` [K] of the factors (where ``a_T = 1``).
+
+        Returns
+        -------
+        WLF
+        """
+        x, y, reference = _check_factors(temperatures, factors, reference)
+        if x.size < 2:
+            raise ParameterError(f"temperatures must hold at least two temperatures besides the reference "
+                                 f"{reference:g} K to fit c1 and c2, got {x.size}")
+        floor = max(0.0, float(np.max(-x)))   # c2 must exceed it: the singularity below every temperature
+        (c1, c2), *_ = np.linalg.lstsq(np.column_stack([x, y]), -x * y, rcond=None)
+        start = [max(c1, 1e-3), max(c2, floor * 1.01 + 1e-3)]
+
+        def residual(p):
+            return -p[0] * x / (p[1] + x) - y
+        solution = least_squares(residual, start, bounds=([1e-12, floor * (1 + 1e-9) + 1e-12], [np.inf, np.inf]),
+                                 xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        return cls(c1=float(solution.x[0]), c2=float(solution.x[1]), reference=reference)
+
+
+@dataclass(frozen=True)
+class Arrhenius(Shift):
+    """Arrhenius shift: ``ln a_T = (E_a / R) (1/T - 1/T_ref)`` (natural logarithm).
+
+    Parameters
+    ----------
+    activation_energy : float
+        ``E_a`` [J/mol], > 0.
+    reference : float
+        Reference temperature ``T_ref`` [K], where ``a_T = 1``.
+
+    ``R`` is :data:`GAS_CONSTANT` = 8.314462618 J/(mol K).
+    """
+
+    activation_energy: float
+    reference: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "activation_energy",
+                           check_quantity(self.activation_energy, name="activation_energy", unit="J/mol"))
+        object.__setattr__(self, "reference", float(check_temperatures(self.reference, name="reference")))
+
+    def log10_factor(self, temperature):
+        """``log10 a_T = (E_a / (R ln 10)) (1/T - 1/T_ref)`` at ``temperature`` [K]."""
+        values = check_temperatures(temperature)
+        natural = self.activation_energy / GAS_CONSTANT * (1.0 / values - 1.0 / self.reference)
+        return _scalar_or_array(natural / math.log(10.0), temperature)
+
+    @classmethod
+    def fit(cls, temperatures, factors, reference):
+        """The Arrhenius law through measured shift factors: ``E_a`` by least squares in ``ln a_T`` (exact: linear).
+
+        Parameters as :meth:`WLF.fit`. Returns :class:`Arrhenius`.
+        """
+        x, y, reference = _check_factors(temperatures, factors, reference)
+        if x.size < 1:
+            raise ParameterError(f"temperatures must hold a temperature besides the reference {reference:g} K "
+                                 f"to fit the activation energy, got none")
+        slope_variable = 1.0 / (x + reference) - 1.0 / reference
+        energy = GAS_CONSTANT * math.log(10.0) * float(slope_variable @ y) / float(slope_variable @ slope_variable)
+        if energy <= 0:
+            raise ParameterError(f"factors must fall as the temperature rises (a_T > 1 below the reference, < 1 "
+                                 f"above) for an Arrhenius law, got a fitted activation energy of {energy:.6g} J/mol")
+        return cls(activation_energy=energy, reference=reference)
