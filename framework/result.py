@@ -3,7 +3,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import check_finite_array
+from ._validation import check_finite_array, check_positive_int
 from ._version import __version__
 from .errors import ParameterError, ShapeError
 from .operators.kernels import subsurface_stress
@@ -55,6 +55,11 @@ class Result:
     :meth:`stress`, :meth:`von_mises`, :meth:`stress_at` below it. With a
     constant Poisson ratio the stresses depend on the current pressure only,
     so they are computed when asked for.
+
+    ``stress_memory`` [bytes] (default 2 GiB, settable) bounds the memory the
+    stress kernels' spectra keep between calls (one ``6 x 2 n1 x (n2 + 1)``
+    array per depth, 6.3 MB at 256^2); beyond it the remaining depths' kernels
+    are rebuilt at every call: less memory, more time.
     """
 
     def __init__(self, grid, material, indenter, schedule, options, inclusions=None, inclusion_problem=None):
@@ -66,6 +71,7 @@ class Result:
         self.version = __version__
         self.records = []
         self._stress_operator = None
+        self.stress_memory = 2 * 1024**3
         self._stress_cache = (None, None)
         self._reductions = []
 
@@ -232,8 +238,9 @@ class Result:
         return self._record(step).gap
 
     def _operator(self):
-        if self._stress_operator is None:
-            self._stress_operator = SubsurfaceStress(self.grid, self.material.poisson)
+        memory = check_positive_int(self.stress_memory, name="stress_memory [bytes]")
+        if self._stress_operator is None or self._stress_operator.cache_bytes != memory:
+            self._stress_operator = SubsurfaceStress(self.grid, self.material.poisson, cache_bytes=memory)
         return self._stress_operator
 
     def stress(self, step):

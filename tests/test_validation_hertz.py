@@ -110,3 +110,23 @@ def test_convergence_order_under_refinement():
     order_pressure, order_approach = [-np.polyfit(np.log(cells), np.log(e), 1)[0] for e in errors.T]
     assert order_pressure > 2.0, order_pressure
     assert order_approach > 1.5, order_approach
+
+
+def test_stress_memory_budget_changes_nothing_but_the_cache(run):
+    """A budget below one depth's kernel spectrum caches nothing and gives the same field, bit for bit."""
+    from framework.errors import ParameterError
+    result, _ = run
+    result.stress_memory = 2 * 1024**3
+    cached = result.stress(0).copy()
+    assert len(result._operator()._cache) == result.grid.layers
+    result.stress_memory = 1024
+    result._stress_cache = (None, None)          # the field of the last step asked for is kept: drop it
+    assert np.array_equal(result.stress(0), cached)
+    assert len(result._operator()._cache) == 0
+    result.stress_memory = 2 * 1024**3
+    for bad in (0, 1.5e6, True):
+        result.stress_memory = bad
+        result._stress_cache = (None, None)
+        with pytest.raises(ParameterError, match=r"stress_memory \[bytes\] must be an integer >= 1"):
+            result.stress(0)
+    result.stress_memory = 2 * 1024**3
