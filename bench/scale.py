@@ -33,7 +33,7 @@ def hertz(n, periodic):
     grid = fw.Grid(shape=(n, n), size=(SIDE, SIDE), periodic=(periodic, periodic))
     sim = fw.Simulation(grid=grid, material=materials.Elastic(YOUNG, POISSON), indenter=indenters.Sphere(RADIUS),
                         schedule=schedules.Static(load=loads.Step(exact.load), times=[1.0]),
-                        options={"tolerance": 1e-8}, record=("pressure",))
+                        options={"tolerance": 1e-8})
     result = sim.run()
     seconds = time.perf_counter() - begin
     peak = float(result.max_pressure[-1])

@@ -191,3 +191,16 @@ def test_repeated_applications_keep_the_zero_padding(shape):
     small = SurfaceCompliance(fw.Grid(shape=(9, 7), size=(1.0, 1.0)))
     for _ in range(3):
         assert np.abs(small.apply(fields[0][:9, :7]) - direct).max() <= 1e-12 * np.abs(direct).max()
+
+
+def test_fft_threads_from_the_environment():
+    """FRAMEWORK_FFT_THREADS: unset -> 1, 'auto' -> the cores this process may use, a bad value named."""
+    import os
+    from framework import fft
+    from framework.errors import ParameterError
+    assert fft.threads_from_environment(None) == 1
+    assert fft.threads_from_environment("3") == 3
+    assert fft.threads_from_environment(" AUTO ") == len(os.sched_getaffinity(0)) >= 1
+    for bad in ("0", "two", "-1", "1.5"):
+        with pytest.raises(ParameterError, match=rf"FRAMEWORK_FFT_THREADS must be a whole number >= 1 or 'auto', got {bad!r}"):
+            fft.threads_from_environment(bad)
