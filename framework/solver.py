@@ -279,6 +279,11 @@ class _Problem:
         return 1.0 / self.self_compliance() if step <= 0 else min(step, 1.0 / self.self_compliance())
 
 
+def _stalls(count, step, conjugate):
+    """Iterations in a row with no step and nothing re-entered: more than 2, and the solve has stalled."""
+    return count + 1 if step == 0.0 and conjugate else 0
+
+
 def _iterate(problem, pressure):
     """Polonsky-Keer conjugate gradients from ``pressure``, with fused passes (:mod:`framework._fused`).
 
@@ -369,12 +374,9 @@ def _iterate(problem, pressure):
         moved, total = passes.rescale(fresh.reshape(-1), pressure.reshape(-1), factor)
         change = moved / max(total, np.finfo(float).tiny)
         pressure, fresh = fresh, pressure
-        if step == 0.0 and conjugate:
-            stalled += 1
-            if stalled > 2:  # no step, nothing re-entered, several times: report the stall
-                break
-        else:
-            stalled = 0
+        stalled = _stalls(stalled, step, conjugate)
+        if stalled > 2:
+            break
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
 
 
@@ -445,10 +447,7 @@ def _iterate_reference(problem, pressure):
         if halving:  # the step was cut: the conjugate directions are lost, restart them
             conjugate = False
         change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
-        if step == 0.0 and conjugate:
-            stalled += 1
-            if stalled > 2:  # no step, nothing re-entered, several times: report the stall
-                break
-        else:
-            stalled = 0
+        stalled = _stalls(stalled, step, conjugate)
+        if stalled > 2:
+            break
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
