@@ -328,11 +328,13 @@ class Simulation:
         compliance = float(series(duration))
         load = max(station.value for station in stations)
         self._surface = operator = SurfaceCompliance(grid)     # the stepper's own, reused
-        contact = solve_normal(lambda p: operator.apply(p, compliance), self._heights, cell_area=grid.cell_area,
+        contact = solve_normal(lambda p: operator.apply(p, compliance, copy=False), self._heights,
+                               cell_area=grid.cell_area,
                                load=load, options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4,
                                                                 raise_on_failure=False),
                                window=operator.window,
-                               apply_window=lambda f, box: operator.apply_window(f, box, compliance)).pressure > 0
+                               apply_window=lambda f, box: operator.apply_window(f, box, compliance, copy=False)
+                               ).pressure > 0
         along = (grid.x1, grid.x2)[axis]
         touched = along[contact.any(axis=1 - axis)]
         sign = np.sign(schedule.velocity[axis])
@@ -394,13 +396,13 @@ class Simulation:
             initial = integrator.pressure if steady else predictor.guess(station.time, integrator.pressure)
             arguments = dict(cell_area=grid.cell_area, initial=initial, options=options.solver,
                              window=operator.window,
-                             apply_window=lambda field, box: operator.apply_window(field, box, compliance))
+                             apply_window=lambda field, box: operator.apply_window(field, box, compliance, copy=False))
             if steady:
                 solution = solve_steady(operator.apply, heights, load=station.value, symmetric=symmetric, **arguments)
             else:
                 def solve(extra=0.0):
                     return solve_normal(
-                        lambda p: operator.apply(p, compliance), heights + history_displacement + extra,
+                        lambda p: operator.apply(p, compliance, copy=False), heights + history_displacement + extra,
                         load=station.value if load_control else None,
                         approach=None if load_control else station.value, offset=offset, coordinates=coordinates,
                         diagonal=compliance * operator.diagonal, **arguments)

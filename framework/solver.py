@@ -149,7 +149,9 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     Parameters
     ----------
     apply : callable
-        ``apply(p)`` returns the displacement [m] of the pressure field ``p`` [Pa].
+        ``apply(p)`` returns the displacement [m] of the pressure field ``p`` [Pa];
+        it may return a buffer of its own that its next call overwrites (the
+        solver reads it before then, and copies the displacement it returns).
     base_gap : ndarray
         Separation ``b`` [m] before the approach and the displacement of ``p``.
     cell_area : float
@@ -229,6 +231,7 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     problem = _Problem(apply, base_gap, cell_area, load if load_control else None, approach, offset, targets, modes,
                        options, window, apply_window, diagonal)
     pressure, displacement, gap, delta, coefficients, iteration, residual, change = _iterate(problem, pressure)
+    displacement = np.array(displacement)   # apply's own buffer, perhaps
 
     success = change < options.tolerance and residual < options.residual_tolerance
     solution = ContactSolution(pressure, displacement, gap, float(delta), float(pressure.sum() * cell_area),
@@ -326,9 +329,10 @@ def _iterate(problem, pressure):
             coefficients = (shift, 0.0, 0.0)
         delta = coefficients[0] if load_control else problem.approach
         norm, overlaps = passes.centre(flat_gap, flat_contact, shift)
-        if change < options.tolerance or iteration == options.max_iterations:
+        # (a stalled solve stops here too, with the displacement and gap of the pressure it returns)
+        if change < options.tolerance or iteration == options.max_iterations or stalled > 2:
             residual = _residual(gap, contact, displacement)
-            if residual < options.residual_tolerance or iteration == options.max_iterations:
+            if residual < options.residual_tolerance or iteration == options.max_iterations or stalled > 2:
                 break
         step = 0.0
         # as in the reference: no direction when the gap is flat to rounding over the contact set; the
@@ -375,8 +379,6 @@ def _iterate(problem, pressure):
         change = moved / max(total, np.finfo(float).tiny)
         pressure, fresh = fresh, pressure
         stalled = _stalls(stalled, step, conjugate)
-        if stalled > 2:
-            break
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
 
 
@@ -400,9 +402,10 @@ def _iterate_reference(problem, pressure):
         else:
             delta = approach
             gap -= delta
-        if change < options.tolerance or iteration == options.max_iterations:
+        # (a stalled solve stops here too, with the displacement and gap of the pressure it returns)
+        if change < options.tolerance or iteration == options.max_iterations or stalled > 2:
             residual = _residual(gap, contact, displacement)
-            if residual < options.residual_tolerance or iteration == options.max_iterations:
+            if residual < options.residual_tolerance or iteration == options.max_iterations or stalled > 2:
                 break
         # The direction vanishes outside the contact set, so plain dot products are sums over it.
         np.copyto(direction, 0.0, where=~contact)
@@ -448,6 +451,4 @@ def _iterate_reference(problem, pressure):
             conjugate = False
         change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
         stalled = _stalls(stalled, step, conjugate)
-        if stalled > 2:
-            break
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
