@@ -295,7 +295,9 @@ def _iterate(problem, pressure):
     :func:`framework._fused.passes` instead of a dozen numpy expressions, the
     new pressure is written into a second buffer instead of a new array, and the
     mean response over the contact is folded into the curvature
-    (``sum (r - m) d = sum r d - m sum d``) instead of being subtracted.
+    (``sum (r - m) d = sum r d - m sum d``) instead of being subtracted, and
+    the passes on the direction and the new pressure walk only the rows that
+    hold the contact, this one's and the last one's (outside them both vanish).
 
     Returns
     -------
@@ -312,6 +314,8 @@ def _iterate(problem, pressure):
     # the passes walk flat views of the grid fields (see framework._fused)
     flat_base, flat_gap, flat_contact, flat_direction = (a.reshape(-1) for a in (base, gap, contact, direction))
     whole = (slice(None), slice(None))
+    rows, columns = pressure.shape
+    held = (0, rows)    # rows outside which the direction and the second buffer vanish (at first: unknown)
     coefficients = (0.0, 0.0, 0.0)
     norm_old, conjugate = 1.0, False
     change, residual, stalled = np.inf, np.inf, 0
@@ -319,6 +323,11 @@ def _iterate(problem, pressure):
         displacement = apply(pressure)
         total, count, square = passes.gap(flat_base, displacement.reshape(-1), pressure.reshape(-1), flat_gap,
                                              flat_contact)
+        touched = np.flatnonzero(contact.any(axis=1))
+        current = (int(touched[0]), int(touched[-1]) + 1) if touched.size else held
+        first_row, last_row = min(held[0], current[0]), max(held[1], current[1])
+        span = slice(first_row * columns, last_row * columns)    # those rows in the flat views
+        held = current
         shift = problem.approach
         if load_control and modes.tilt:
             rigid, coefficients = modes.fit(gap, contact)
@@ -338,7 +347,7 @@ def _iterate(problem, pressure):
         # as in the reference: no direction when the gap is flat to rounding over the contact set; the
         # bound sum u^2 >= max u^2 spares the exact maximum unless the norm comes near that limit
         if norm > 1e-24 * square * count or norm > (1e-12 * np.abs(displacement).max()) ** 2 * count:
-            numerator = passes.direction(flat_direction, flat_gap, flat_contact,
+            numerator = passes.direction(flat_direction[span], flat_gap[span], flat_contact[span],
                                          norm / norm_old if conjugate else 0.0)
             norm_old = norm
             if problem.window is None:
@@ -351,6 +360,8 @@ def _iterate(problem, pressure):
                 curvature = _dot(response, direction[box])
             else:
                 first, second = (0 if s.start is None else s.start for s in box)
+                if box == whole:
+                    first, response = first_row, response[first_row:last_row]
                 product, inside, outside = passes.curvature(response, direction, contact, first, second)
                 curvature = product - inside * outside / count if load_control else product
             # a direction that rounding has swamped takes no step
@@ -359,9 +370,11 @@ def _iterate(problem, pressure):
             direction[...] = 0.0
         conjugate = not overlaps
         entry = 0.0 if conjugate else problem.entry(step)
+        if overlaps:   # cells anywhere may re-enter
+            span = slice(None)
         for halving in range(40):
-            total = passes.advance(fresh.reshape(-1), pressure.reshape(-1), flat_direction, flat_gap, flat_contact,
-                                   0.5**halving * step, 0.5**halving * entry)
+            total = passes.advance(fresh.reshape(-1)[span], pressure.reshape(-1)[span], flat_direction[span],
+                                   flat_gap[span], flat_contact[span], 0.5**halving * step, 0.5**halving * entry)
             factor = 1.0
             if not load_control:
                 break
@@ -375,7 +388,7 @@ def _iterate(problem, pressure):
             raise LoadNotCarriedError(_not_carried(problem.load, problem.offset, pressure > 0))
         if halving:  # the step was cut: the conjugate directions are lost, restart them
             conjugate = False
-        moved, total = passes.rescale(fresh.reshape(-1), pressure.reshape(-1), factor)
+        moved, total = passes.rescale(fresh.reshape(-1)[span], pressure.reshape(-1)[span], factor)
         change = moved / max(total, np.finfo(float).tiny)
         pressure, fresh = fresh, pressure
         stalled = _stalls(stalled, step, conjugate)
