@@ -5,7 +5,8 @@ expressions, kept as the reference. Both loops are run to a tolerance of 1e-14,
 where each reaches the one solution of the discrete problem, so that pressures,
 displacements, gaps and approaches must agree to 1e-12 of their largest value
 whatever the rounding of the sums. Grids of 64^2 (open, with the box of the
-windowed product) and 64^2 periodic; load and approach control; a tilting punch.
+windowed product) and 64^2 periodic; load and approach control; a rough
+surface; a tilting punch.
 
 One exception, approach control: both loops stop where the gap over the
 contact is flat to 1e-12 of the displacement (the solver's rounding floor,
@@ -66,6 +67,24 @@ def test_fused_loop_gives_the_reference_solution(compiled, periodic, control):
     check = SurfaceCompliance(grid).apply(fast.pressure, COMPLIANCE)
     assert np.abs(fast.displacement - check).max() <= 1e-13 * np.abs(check).max()
     assert fast.iterations > 5 and 0.05 < np.mean(fast.pressure > 0) < 0.5   # a real solve, not a trivial one
+
+
+@pytest.mark.parametrize("compiled", PASSES)
+def test_fused_loop_gives_the_reference_rough_contact(compiled):
+    """A random rough surface on a periodic 64^2 grid: many spots in every row, which merge and split."""
+    grid = fw.Grid(shape=(64, 64), size=(1e-3, 1e-3), periodic=(True, True))
+    rng = np.random.default_rng(7)
+    spectrum = np.fft.rfft2(rng.standard_normal(grid.shape))
+    q = np.hypot(*np.meshgrid(np.fft.fftfreq(64), np.fft.rfftfreq(64), indexing="ij"))
+    spectrum *= np.where((q > 0) & (q < 0.2), np.maximum(q, 1e-3) ** -1.8, 0.0)
+    heights = np.fft.irfft2(spectrum, grid.shape)
+    heights *= 1e-6 / heights.std()   # 1 um rms
+    with _fused.use_compiled(compiled):
+        fast = solve(grid, heights, False, load=1.0)
+    plain = solve(grid, heights, True, load=1.0)
+    assert_same(fast, plain)
+    touched = fast.pressure > 0
+    assert 0.05 < touched.mean() < 0.5 and 0.5 < touched.any(axis=1).mean() < 1   # spots in most rows, not all
 
 
 @pytest.mark.parametrize("compiled", PASSES)
