@@ -24,8 +24,9 @@ C-ordered grid fields; ``curvature`` takes the response on a box whose first
 cell is ``(first, second)`` of the 2-D grid fields.
 
 With numba (``pip install viscocontact[jit]``, :data:`NUMBA_MINIMUM`) each is a
-compiled loop (cached on disk, so compiled once per installation); without it,
-or with ``FRAMEWORK_JIT=0`` or :func:`set_compiled`, the same passes are numpy
+compiled loop (cached on disk, so compiled once per installation) on grids of
+:data:`COMPILED_FROM` cells or more; without it, on smaller grids, or with
+``FRAMEWORK_JIT=0`` or :func:`set_compiled`, the same passes are numpy
 expressions. The two give the same numbers to rounding (sums in another
 order), as the reference loop of the solver does.
 """
@@ -38,6 +39,10 @@ from .errors import ParameterError
 
 #: The oldest numba the compiled passes are written for (pyproject.toml's ``jit`` extra; the first with NumPy 2).
 NUMBA_MINIMUM = "0.60"
+
+#: Grids of fewer cells take the numpy passes: there the passes of a whole run cost less than importing
+#: numba (half a second, once per process), which small runs and the test suite's processes are spared.
+COMPILED_FROM = 128 * 128
 
 _compiled = os.environ.get("FRAMEWORK_JIT", "1") != "0"
 _cache = {}
@@ -80,9 +85,10 @@ def use_compiled(flag):
         set_compiled(previous)
 
 
-def passes():
-    """The passes in use: the compiled ones when selected and numba is installed, else the numpy ones."""
-    if not (_compiled and numba_available()):
+def passes(cells=None):
+    """The passes for a grid of ``cells`` cells: compiled when selected, numba is installed and the grid
+    has :data:`COMPILED_FROM` cells or more (or ``cells`` is None), else numpy."""
+    if not (_compiled and (cells is None or cells >= COMPILED_FROM) and numba_available()):
         return NumpyPasses
     if "compiled" not in _cache:
         # Reassociation lets the sums use vector registers; "no NaN" lets the selections on the contact

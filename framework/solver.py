@@ -304,7 +304,7 @@ def _iterate(problem, pressure):
     tuple
         ``(pressure, displacement, gap, approach, coefficients, iterations, residual, change)``.
     """
-    passes = _fused.passes()
+    passes = _fused.passes(np.size(pressure))
     apply, options, modes = problem.apply, problem.options, problem.modes
     load_control = problem.load is not None
     base = np.ascontiguousarray(problem.base_gap)

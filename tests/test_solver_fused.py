@@ -31,6 +31,12 @@ PASSES = [False, pytest.param(True, marks=pytest.mark.skipif(not _fused.numba_av
                                                               reason="numba is not installed (the jit extra)"))]
 
 
+@pytest.fixture(autouse=True)
+def compile_small_grids(monkeypatch):
+    """The compiled passes on these small grids too (a run takes them from 128^2 cells)."""
+    monkeypatch.setattr(_fused, "COMPILED_FROM", 0)
+
+
 def solve(grid, heights, reference, **control):
     operator = SurfaceCompliance(grid)
     loop = solver._iterate_reference if reference else solver._iterate
@@ -165,3 +171,11 @@ def test_nan_separation_is_refused():
 def test_compiled_choice_must_be_a_boolean():
     with pytest.raises(ParameterError, match=r"compiled must be True or False, got 1"):
         _fused.set_compiled(1)
+
+
+def test_small_grids_take_the_numpy_passes(monkeypatch):
+    monkeypatch.setattr(_fused, "COMPILED_FROM", 100)
+    assert _fused.passes(99) is _fused.NumpyPasses
+    assert (_fused.passes(100) is _fused.NumpyPasses) == (not _fused.numba_available())
+    with _fused.use_compiled(False):
+        assert _fused.passes(10**6) is _fused.NumpyPasses
