@@ -175,7 +175,8 @@ def test_compiled_choice_must_be_a_boolean():
 
 def test_small_grids_take_the_numpy_passes(monkeypatch):
     monkeypatch.setattr(_fused, "COMPILED_FROM", 100)
-    assert _fused.passes(99) is _fused.NumpyPasses
-    assert (_fused.passes(100) is _fused.NumpyPasses) == (not _fused.numba_available())
+    with _fused.use_compiled(True):
+        assert _fused.passes(99) is _fused.NumpyPasses
+        assert (_fused.passes(100) is _fused.NumpyPasses) == (not _fused.numba_available())
     with _fused.use_compiled(False):
         assert _fused.passes(10**6) is _fused.NumpyPasses
