@@ -26,6 +26,7 @@ test-all: $(STAMP)
 bench: $(STAMP)
 	$(PY) -m pip install --quiet tamaas
 	$(PY) bench/elastic_hertz.py
+	$(PY) bench/contact_loop.py
 	$(PY) bench/visco_indentation.py
 	$(PY) bench/rolling.py
 	$(PY) bench/inclusion.py

@@ -152,8 +152,11 @@ class RealFFTPair:
 
     Write the input into ``real_in`` (what lies outside the written block stays
     as it is, so zero padding is written once), call :meth:`forward`, work on
-    ``spectrum`` in place, call :meth:`inverse` and read ``real_out``. Nothing
-    is allocated per call: in the solver loop that is most of the cost.
+    ``spectrum`` in place, call :meth:`inverse` and read ``real_out`` times
+    ``normalisation``: the inverse is left unnormalised (pyFFTW's raw
+    transform), so that the reader folds the factor into the pass that copies
+    the block it needs instead of a pass over the whole (padded) buffer.
+    Nothing is allocated per call: in the solver loop that is most of the cost.
     """
 
     def __init__(self, shape):
@@ -161,6 +164,7 @@ class RealFFTPair:
         self.backend = _backend
         self.threads = THREADS
         spectral = self.shape[:-1] + (self.shape[-1] // 2 + 1,)
+        self.normalisation = 1.0 / (self.shape[-1] * self.shape[-2]) if _backend == "pyfftw" else 1.0
         if _backend == "pyfftw":
             self.real_in = pyfftw.zeros_aligned(self.shape, dtype="float64")
             self.spectrum = pyfftw.zeros_aligned(spectral, dtype="complex128")
@@ -184,9 +188,8 @@ class RealFFTPair:
             self.spectrum[...] = scipy.fft.rfftn(self.real_in, axes=(-2, -1), workers=THREADS)
 
     def inverse(self):
-        """``real_out <- irfft2(spectrum)`` (``spectrum`` is destroyed)."""
+        """``real_out <- irfft2(spectrum) / normalisation`` (``spectrum`` is destroyed)."""
         if self.backend == "pyfftw":
             self._inverse.execute()
-            self.real_out *= 1.0 / (self.shape[-1] * self.shape[-2])
         else:
             self.real_out[...] = scipy.fft.irfftn(self.spectrum, s=self.shape[-2:], axes=(-2, -1), workers=THREADS)

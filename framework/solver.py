@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _fused
+from ._fused import _dot
 from ._validation import check_bool, check_positive_int, check_real
 from .errors import ConvergenceError, LoadNotCarriedError, ParameterError
 
@@ -71,11 +73,6 @@ class ContactSolution:
     pressure_change: float
     success: bool
     slopes: tuple = (0.0, 0.0)  # rigid tilt (alpha1, alpha2) of an eccentrically loaded indenter
-
-
-def _dot(a, b):
-    """Sum of ``a * b`` in numpy's own loop: BLAS threads stall when the cores are busy."""
-    return float(np.einsum("ij,ij->", a, b))
 
 
 class RigidModes:
@@ -152,7 +149,9 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     Parameters
     ----------
     apply : callable
-        ``apply(p)`` returns the displacement [m] of the pressure field ``p`` [Pa].
+        ``apply(p)`` returns the displacement [m] of the pressure field ``p`` [Pa];
+        it may return a buffer of its own that its next call overwrites (the
+        solver reads it before then, and copies the displacement it returns).
     base_gap : ndarray
         Separation ``b`` [m] before the approach and the displacement of ``p``.
     cell_area : float
@@ -185,6 +184,10 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     ContactSolution
     """
     base_gap = np.asarray(base_gap, dtype=float)
+    missing = np.count_nonzero(np.isnan(base_gap))
+    if missing:
+        raise ParameterError(f"base_gap must hold numbers (the separation [m], +inf where nothing can touch), "
+                             f"got NaN at {missing} of its {base_gap.size} cells")
     load_control = load is not None
     modes = RigidModes(coordinates if offset is not None else None)
     targets = None
@@ -225,86 +228,10 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         if not carried:
             raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
 
-    coefficients = (0.0, 0.0, 0.0)
-
-    def self_compliance():
-        """Displacement of a cell under its own unit pressure (the operator is a convolution: any cell)."""
-        nonlocal diagonal
-        if diagonal is None:
-            unit = np.zeros_like(base_gap)
-            unit.flat[0] = 1.0
-            diagonal = float(apply(unit).flat[0])
-        return diagonal
-
-    direction = np.zeros_like(pressure)
-    norm_old, conjugate = 1.0, False
-    change, residual, stalled = np.inf, np.inf, 0
-    for iteration in range(options.max_iterations + 1):
-        displacement = apply(pressure)
-        gap = base_gap + displacement
-        contact = pressure > 0
-        if load_control:
-            rigid, coefficients = modes.fit(gap, contact)
-            delta = coefficients[0]
-            gap -= rigid
-        else:
-            delta = approach
-            gap -= delta
-        if change < options.tolerance or iteration == options.max_iterations:
-            residual = _residual(gap, contact, displacement)
-            if residual < options.residual_tolerance or iteration == options.max_iterations:
-                break
-        # The direction vanishes outside the contact set, so plain dot products are sums over it.
-        np.copyto(direction, 0.0, where=~contact)
-        gap_c = np.where(contact, gap, 0.0)
-        norm = _dot(gap_c, gap_c)
-        step, curvature = 0.0, 0.0
-        # A gap flat to rounding over the contact set has no direction to follow (a set with no free
-        # direction: one cell, the symmetric apex cells of an even grid, three cells under a tilt):
-        # the rounding noise would give an arbitrary step. Only the re-entry below can move it.
-        if norm > (1e-12 * np.abs(displacement).max()) ** 2 * np.count_nonzero(contact):
-            direction *= norm / norm_old if conjugate else 0.0
-            direction += gap_c
-            norm_old = norm
-            if window is None:
-                box, response = (slice(None), slice(None)), apply(direction)
-            else:
-                box = window(contact)
-                response = apply_window(direction[box], box)
-            if load_control:
-                response -= modes.fit(response, contact[box], box)[0]
-            curvature = _dot(response, direction[box])
-            # a direction that rounding has swamped takes no step
-            step = _dot(gap_c, direction) / curvature if curvature > 0 else 0.0
-        else:
-            direction[:] = 0.0
-        # Re-entry (Polonsky & Keer): free cells that interpenetrate join the contact set, with the
-        # pressure that closes their overlap: the conjugate step times the overlap, at most what
-        # would close it in a cell alone (its own compliance), which is the step when there is none.
-        overlap = ~contact & (gap < 0)
-        conjugate = not overlap.any()
-        entry = 0.0
-        if not conjugate:
-            entry = 1.0 / self_compliance() if step <= 0 else min(step, 1.0 / self_compliance())
-        previous = pressure
-        # Under load control the step must leave a pressure that can carry the load (and, with a
-        # tilt, both moments: not every clipped step can): halve it until it does.
-        for halving in range(40):
-            pressure = np.maximum(previous - 0.5**halving * step * direction, 0.0)
-            pressure[overlap] = -0.5**halving * entry * gap[overlap]
-            if not load_control or modes.restore(pressure, targets, cell_area):
-                break
-        else:  # even a vanishing step leaves no pressure that carries the load (previous did: not reached)
-            raise LoadNotCarriedError(_not_carried(load, offset, previous > 0))
-        if halving:  # the step was cut: the conjugate directions are lost, restart them
-            conjugate = False
-        change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
-        if step == 0.0 and conjugate:
-            stalled += 1
-            if stalled > 2:  # no step, nothing re-entered, several times: report the stall
-                break
-        else:
-            stalled = 0
+    problem = _Problem(apply, base_gap, cell_area, load if load_control else None, approach, offset, targets, modes,
+                       options, window, apply_window, diagonal)
+    pressure, displacement, gap, delta, coefficients, iteration, residual, change = _iterate(problem, pressure)
+    displacement = np.array(displacement)   # apply's own buffer, perhaps
 
     success = change < options.tolerance and residual < options.residual_tolerance
     solution = ContactSolution(pressure, displacement, gap, float(delta), float(pressure.sum() * cell_area),
@@ -323,3 +250,218 @@ def _not_carried(load, offset, contact):
     return (f"the load {load:g} N at offset {tuple(offset) if offset is not None else (0, 0)} m cannot be carried: "
             f"the contact shrank to {int(contact.sum())} cells; the load centre must lie well inside the area "
             f"the body can touch (for a flat punch, inside its face)")
+
+
+@dataclass
+class _Problem:
+    """What an iteration loop needs: the operator, the separation, the control and the tolerances."""
+
+    apply: object
+    base_gap: np.ndarray
+    cell_area: float
+    load: float               # None under approach control
+    approach: float
+    offset: tuple
+    targets: np.ndarray
+    modes: RigidModes
+    options: SolverOptions
+    window: object
+    apply_window: object
+    diagonal: float = None
+
+    def self_compliance(self):
+        """Displacement of a cell under its own unit pressure (the operator is a convolution: any cell)."""
+        if self.diagonal is None:
+            unit = np.zeros_like(self.base_gap)
+            unit.flat[0] = 1.0
+            self.diagonal = float(self.apply(unit).flat[0])
+        return self.diagonal
+
+    def entry(self, step):
+        """The re-entry factor of Polonsky & Keer: the conjugate step, at most a cell's own stiffness."""
+        return 1.0 / self.self_compliance() if step <= 0 else min(step, 1.0 / self.self_compliance())
+
+
+def _stalls(count, step, conjugate):
+    """Iterations in a row with no step and nothing re-entered: more than 2, and the solve has stalled."""
+    return count + 1 if step == 0.0 and conjugate else 0
+
+
+def _iterate(problem, pressure):
+    """Polonsky-Keer conjugate gradients from ``pressure``, with fused passes (:mod:`framework._fused`).
+
+    The same iteration as :func:`_iterate_reference`, which it must match to
+    rounding: each block of elementwise work is one pass of
+    :func:`framework._fused.passes` instead of a dozen numpy expressions, the
+    new pressure is written into a second buffer instead of a new array, and the
+    mean response over the contact is folded into the curvature
+    (``sum (r - m) d = sum r d - m sum d``) instead of being subtracted, and
+    the passes on the direction and the new pressure walk only the rows that
+    hold the contact, this one's and the last one's (outside them both vanish).
+
+    Returns
+    -------
+    tuple
+        ``(pressure, displacement, gap, approach, coefficients, iterations, residual, change)``.
+    """
+    passes = _fused.passes(np.size(pressure))
+    apply, options, modes = problem.apply, problem.options, problem.modes
+    load_control = problem.load is not None
+    base = np.ascontiguousarray(problem.base_gap)
+    pressure = np.ascontiguousarray(pressure)
+    fresh, direction, gap = np.empty_like(pressure), np.zeros_like(pressure), np.empty_like(pressure)
+    contact = np.empty(pressure.shape, dtype=bool)
+    # the passes walk flat views of the grid fields (see framework._fused)
+    flat_base, flat_gap, flat_contact, flat_direction = (a.reshape(-1) for a in (base, gap, contact, direction))
+    whole = (slice(None), slice(None))
+    rows, columns = pressure.shape
+    held = (0, rows)    # rows outside which the direction and the second buffer vanish (at first: unknown)
+    coefficients = (0.0, 0.0, 0.0)
+    norm_old, conjugate = 1.0, False
+    change, residual, stalled = np.inf, np.inf, 0
+    for iteration in range(options.max_iterations + 1):
+        displacement = apply(pressure)
+        total, count, square = passes.gap(flat_base, displacement.reshape(-1), pressure.reshape(-1), flat_gap,
+                                             flat_contact)
+        touched = np.flatnonzero(contact.any(axis=1))
+        current = (int(touched[0]), int(touched[-1]) + 1) if touched.size else held
+        first_row, last_row = min(held[0], current[0]), max(held[1], current[1])
+        span = slice(first_row * columns, last_row * columns)    # those rows in the flat views
+        held = current
+        shift = problem.approach
+        if load_control and modes.tilt:
+            rigid, coefficients = modes.fit(gap, contact)
+            gap -= rigid
+            shift = 0.0
+        elif load_control:
+            shift = total / count
+            coefficients = (shift, 0.0, 0.0)
+        delta = coefficients[0] if load_control else problem.approach
+        norm, overlaps = passes.centre(flat_gap, flat_contact, shift)
+        # (a stalled solve stops here too, with the displacement and gap of the pressure it returns)
+        if change < options.tolerance or iteration == options.max_iterations or stalled > 2:
+            residual = _residual(gap, contact, displacement)
+            if residual < options.residual_tolerance or iteration == options.max_iterations or stalled > 2:
+                break
+        step = 0.0
+        # as in the reference: no direction when the gap is flat to rounding over the contact set; the
+        # bound sum u^2 >= max u^2 spares the exact maximum unless the norm comes near that limit
+        if norm > 1e-24 * square * count or norm > (1e-12 * np.abs(displacement).max()) ** 2 * count:
+            numerator = passes.direction(flat_direction[span], flat_gap[span], flat_contact[span],
+                                         norm / norm_old if conjugate else 0.0)
+            norm_old = norm
+            if problem.window is None:
+                box, response = whole, apply(direction)
+            else:
+                box = problem.window(contact)
+                response = problem.apply_window(direction[box], box)
+            if load_control and modes.tilt:
+                response -= modes.fit(response, contact[box], box)[0]
+                curvature = _dot(response, direction[box])
+            else:
+                first, second = (0 if s.start is None else s.start for s in box)
+                if box == whole:
+                    first, response = first_row, response[first_row:last_row]
+                product, inside, outside = passes.curvature(response, direction, contact, first, second)
+                curvature = product - inside * outside / count if load_control else product
+            # a direction that rounding has swamped takes no step
+            step = numerator / curvature if curvature > 0 else 0.0
+        else:
+            direction[...] = 0.0
+        conjugate = not overlaps
+        entry = 0.0 if conjugate else problem.entry(step)
+        if overlaps:   # cells anywhere may re-enter
+            span = slice(None)
+        for halving in range(40):
+            total = passes.advance(fresh.reshape(-1)[span], pressure.reshape(-1)[span], flat_direction[span],
+                                   flat_gap[span], flat_contact[span], 0.5**halving * step, 0.5**halving * entry)
+            factor = 1.0
+            if not load_control:
+                break
+            if modes.tilt:
+                if modes.restore(fresh, problem.targets, problem.cell_area):
+                    break
+            elif total > 0:
+                factor = problem.targets[0] / (total * problem.cell_area)
+                break
+        else:  # even a vanishing step leaves no pressure that carries the load (the current one did: not reached)
+            raise LoadNotCarriedError(_not_carried(problem.load, problem.offset, pressure > 0))
+        if halving:  # the step was cut: the conjugate directions are lost, restart them
+            conjugate = False
+        moved, total = passes.rescale(fresh.reshape(-1)[span], pressure.reshape(-1)[span], factor)
+        change = moved / max(total, np.finfo(float).tiny)
+        pressure, fresh = fresh, pressure
+        stalled = _stalls(stalled, step, conjugate)
+    return pressure, displacement, gap, delta, coefficients, iteration, residual, change
+
+
+def _iterate_reference(problem, pressure):
+    """The iteration of :func:`_iterate` as plain numpy expressions: the reference the tests hold it to."""
+    apply, base_gap, options, modes = problem.apply, problem.base_gap, problem.options, problem.modes
+    load_control = problem.load is not None
+    cell_area, targets, approach = problem.cell_area, problem.targets, problem.approach
+    coefficients = (0.0, 0.0, 0.0)
+    direction = np.zeros_like(pressure)
+    norm_old, conjugate = 1.0, False
+    change, residual, stalled = np.inf, np.inf, 0
+    for iteration in range(options.max_iterations + 1):
+        displacement = apply(pressure)
+        gap = base_gap + displacement
+        contact = pressure > 0
+        if load_control:
+            rigid, coefficients = modes.fit(gap, contact)
+            delta = coefficients[0]
+            gap -= rigid
+        else:
+            delta = approach
+            gap -= delta
+        # (a stalled solve stops here too, with the displacement and gap of the pressure it returns)
+        if change < options.tolerance or iteration == options.max_iterations or stalled > 2:
+            residual = _residual(gap, contact, displacement)
+            if residual < options.residual_tolerance or iteration == options.max_iterations or stalled > 2:
+                break
+        # The direction vanishes outside the contact set, so plain dot products are sums over it.
+        np.copyto(direction, 0.0, where=~contact)
+        gap_c = np.where(contact, gap, 0.0)
+        norm = _dot(gap_c, gap_c)
+        step, curvature = 0.0, 0.0
+        # A gap flat to rounding over the contact set has no direction to follow (a set with no free
+        # direction: one cell, the symmetric apex cells of an even grid, three cells under a tilt):
+        # the rounding noise would give an arbitrary step. Only the re-entry below can move it.
+        if norm > (1e-12 * np.abs(displacement).max()) ** 2 * np.count_nonzero(contact):
+            direction *= norm / norm_old if conjugate else 0.0
+            direction += gap_c
+            norm_old = norm
+            if problem.window is None:
+                box, response = (slice(None), slice(None)), apply(direction)
+            else:
+                box = problem.window(contact)
+                response = problem.apply_window(direction[box], box)
+            if load_control:
+                response -= modes.fit(response, contact[box], box)[0]
+            curvature = _dot(response, direction[box])
+            # a direction that rounding has swamped takes no step
+            step = _dot(gap_c, direction) / curvature if curvature > 0 else 0.0
+        else:
+            direction[:] = 0.0
+        # Re-entry (Polonsky & Keer): free cells that interpenetrate join the contact set, with the
+        # pressure that closes their overlap: the conjugate step times the overlap, at most what
+        # would close it in a cell alone (its own compliance), which is the step when there is none.
+        overlap = ~contact & (gap < 0)
+        conjugate = not overlap.any()
+        entry = 0.0 if conjugate else problem.entry(step)
+        previous = pressure
+        # Under load control the step must leave a pressure that can carry the load (and, with a
+        # tilt, both moments: not every clipped step can): halve it until it does.
+        for halving in range(40):
+            pressure = np.maximum(previous - 0.5**halving * step * direction, 0.0)
+            pressure[overlap] = -0.5**halving * entry * gap[overlap]
+            if not load_control or modes.restore(pressure, targets, cell_area):
+                break
+        else:  # even a vanishing step leaves no pressure that carries the load (previous did: not reached)
+            raise LoadNotCarriedError(_not_carried(problem.load, problem.offset, previous > 0))
+        if halving:  # the step was cut: the conjugate directions are lost, restart them
+            conjugate = False
+        change = np.abs(pressure - previous).sum() / max(pressure.sum(), np.finfo(float).tiny)
+        stalled = _stalls(stalled, step, conjugate)
+    return pressure, displacement, gap, delta, coefficients, iteration, residual, change

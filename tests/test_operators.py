@@ -204,3 +204,23 @@ def test_fft_threads_from_the_environment():
     for bad in ("0", "two", "-1", "1.5"):
         with pytest.raises(ParameterError, match=rf"FRAMEWORK_FFT_THREADS must be a whole number >= 1 or 'auto', got {bad!r}"):
             fft.threads_from_environment(bad)
+
+
+@pytest.mark.parametrize("periodic", [(False, False), (True, True)])
+def test_scaled_product_and_its_uncopied_buffer(periodic):
+    """``apply(p, scale)`` is ``scale`` times the product, against the direct sum on the open grid; with
+    ``copy=False`` the same numbers in the operator's buffer, which the next product overwrites; a
+    scale changed between calls is taken (the scaled kernel is rebuilt)."""
+    grid = fw.Grid(shape=(9, 7), size=(1.0, 1.0), periodic=periodic)
+    operator = SurfaceCompliance(grid)
+    pressure = RNG.random(grid.shape)
+    plain = direct_surface(grid, pressure) if periodic == (False, False) else operator.apply(pressure)
+    for scale in (2.5e-9, 7.0, 2.5e-9):
+        scaled = operator.apply(pressure, scale)
+        assert np.abs(scaled - scale * plain).max() <= 1e-12 * scale * np.abs(plain).max()
+        buffer = operator.apply(pressure, scale, copy=False)
+        assert np.array_equal(buffer, scaled)
+    again = operator.apply(2 * pressure, copy=False)
+    assert np.shares_memory(buffer, again) and np.abs(buffer - 2 * plain).max() <= 1e-12 * np.abs(plain).max()
+    box = operator.window(np.ones(grid.shape, bool))
+    assert np.array_equal(operator.apply_window(pressure, box, 7.0), operator.apply(pressure, 7.0))

@@ -54,6 +54,7 @@ class Convolution:
         self.periodic = tuple(periodic)
         self.fft_shape = padded_shape(self.shape, self.periodic)
         self._pair = None
+        self._scaled = None       # (factor, kernel spectrum times it) of the last product
         if spectrum is None:
             self.spectrum = None
             return
@@ -83,16 +84,27 @@ class Convolution:
         full = fft.irfft2(spectrum * field_spectrum, self.fft_shape)
         return full[..., : self.shape[0], : self.shape[1]]
 
-    def apply(self, field):
-        """Convolution of ``field`` (shape ``(n1, n2)``) with the kernel, through reused buffers."""
+    def apply(self, field, scale=1.0, copy=True):
+        """``scale`` times the convolution of ``field`` (shape ``(n1, n2)``) with the kernel, through reused buffers.
+
+        The factor costs no pass of its own: it joins the FFT's normalisation
+        in a copy of the kernel spectrum, made once per factor. With
+        ``copy=False`` the result is the operator's own output buffer (no pass
+        to copy it out, and one grid less in the caches), valid until the next
+        product: for a caller that reads it before then and copies what it keeps.
+        """
         if np.shape(field) != self.shape:
             raise ShapeError(f"field has shape {np.shape(field)}, the operator's grid is {self.shape}")
         pair = self._pair
         if pair is None or (pair.backend, pair.threads) != (fft.get_backend(), fft.THREADS):
             pair = self._pair = fft.RealFFTPair(self.fft_shape)
+        factor = scale * pair.normalisation
+        if self._scaled is None or self._scaled[0] != factor:
+            self._scaled = (factor, self.spectrum * factor)
         n1, n2 = self.shape
         pair.real_in[:n1, :n2] = field
         pair.forward()
-        np.multiply(pair.spectrum, self.spectrum, out=pair.spectrum)
+        np.multiply(pair.spectrum, self._scaled[1], out=pair.spectrum)
         pair.inverse()
-        return pair.real_out[:n1, :n2].copy()
+        block = pair.real_out[:n1, :n2]
+        return block.copy() if copy else block

@@ -89,9 +89,15 @@ class SurfaceCompliance:
                 self._diagonal = float(self.apply(unit)[0, 0])
         return self._diagonal
 
-    def apply(self, pressure):
-        """``K * p`` [Pa m] for a pressure field ``(n1, n2)`` [Pa]."""
-        return self._convolution.apply(pressure)
+    def apply(self, pressure, scale=1.0, copy=True):
+        """``K * p`` [Pa m] for a pressure field ``(n1, n2)`` [Pa], times ``scale``.
+
+        With ``scale`` a contact compliance [1/Pa] it is the displacement [m],
+        at no extra cost. ``copy=False`` returns the operator's own buffer,
+        overwritten by the next product (see :meth:`Convolution.apply
+        <framework.operators.convolution.Convolution.apply>`).
+        """
+        return self._convolution.apply(pressure, scale, copy)
 
     def window(self, support):
         """Slices of a box holding ``support`` (boolean ``(n1, n2)``), for :meth:`apply_window`.
@@ -119,15 +125,15 @@ class SurfaceCompliance:
             slices.append(slice(start, start + size))
         return tuple(slices)
 
-    def apply_window(self, field, window):
-        """``K * field`` on the box ``window`` for a field that vanishes outside it.
+    def apply_window(self, field, window, scale=1.0, copy=True):
+        """``K * field`` on the box ``window`` for a field that vanishes outside it, times ``scale``.
 
         ``field`` has the box's shape; the result is the exact linear
         convolution restricted to the box, at the cost of an FFT of twice the
-        box instead of twice the grid.
+        box instead of twice the grid. ``scale`` and ``copy`` as for :meth:`apply`.
         """
         if window == (slice(None), slice(None)):
-            return self.apply(field)
+            return self.apply(field, scale, copy)
         shape = np.shape(field)
         convolution = self._windows.get(shape)
         if convolution is None:
@@ -138,7 +144,7 @@ class SurfaceCompliance:
             kernel[m1, :] = 0.0  # offsets -m, never used by an m-point linear convolution
             kernel[:, m2] = 0.0
             convolution = self._windows[shape] = Convolution(fft.rfft2(kernel), shape, (False, False))
-        return convolution.apply(field)
+        return convolution.apply(field, scale, copy)
 
 
 def _integral_log(x, h, length):

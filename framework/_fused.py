@@ -1,0 +1,226 @@
+"""The elementwise passes of a contact iteration, fused: compiled by numba when it is installed.
+
+An iteration of :func:`framework.solver.solve_normal` is two FFT products and
+a dozen elementwise operations on grid fields; as numpy expressions each is
+a pass through memory (and often a temporary), which on a doubly periodic grid
+cost more than the FFTs. Here they are grouped into six passes, each one loop
+over the grid that does all its work per cell and returns its sums:
+
+=============  ===============================================================
+``gap``        ``gap = base + u``, ``contact = p > 0``; the gap summed over the
+               contact, its cell count, a bound on ``max u^2`` (``sum u^2``)
+``centre``     ``gap -= shift``; ``sum gap^2`` over the contact, whether a free
+               cell interpenetrates
+``direction``  ``d = beta d + gap`` on the contact, 0 elsewhere; ``sum d gap``
+``curvature``  ``sum r d``, ``sum r`` over the contact and ``sum d``, with the
+               response ``r`` on a box of the grid
+``advance``    ``p' = max(p - step d, 0)`` on the contact, ``-entry gap`` on
+               free cells that interpenetrate, 0 elsewhere; ``sum p'``
+``rescale``    ``p' *= factor``; ``sum |p' - p|`` and ``sum p'``
+=============  ===============================================================
+
+Every pass but ``curvature`` takes flat views (``a.reshape(-1)``) of
+C-ordered grid fields; ``curvature`` takes the response on a box whose first
+cell is ``(first, second)`` of the 2-D grid fields.
+
+With numba (``pip install viscocontact[jit]``, :data:`NUMBA_MINIMUM`) each is a
+compiled loop (cached on disk, so compiled once per installation) on grids of
+:data:`COMPILED_FROM` cells or more; without it, on smaller grids, or with
+``FRAMEWORK_JIT=0`` or :func:`set_compiled`, the same passes are numpy
+expressions. The two give the same numbers to rounding (sums in another
+order), as the reference loop of the solver does.
+"""
+import contextlib
+import os
+
+import numpy as np
+
+from .errors import ParameterError
+
+#: The oldest numba the compiled passes are written for (pyproject.toml's ``jit`` extra; the first with NumPy 2).
+NUMBA_MINIMUM = "0.60"
+
+#: Grids of fewer cells take the numpy passes: there the passes of a whole run cost less than importing
+#: numba (half a second, once per process), which small runs and the test suite's processes are spared.
+COMPILED_FROM = 128 * 128
+
+_compiled = os.environ.get("FRAMEWORK_JIT", "1") != "0"
+_cache = {}
+
+
+def numba_available():
+    """Whether numba can be imported here."""
+    if "numba" not in _cache:
+        try:
+            import numba
+        except ImportError:
+            numba = None
+        if numba is not None and _release(numba.__version__) < _release(NUMBA_MINIMUM):
+            numba = None  # an older numba cannot compile these loops against this numpy: use the numpy passes
+        _cache["numba"] = numba
+    return _cache["numba"] is not None
+
+
+def _release(version):
+    """``(major, minor)`` of a version string."""
+    return tuple(int(part) for part in version.split(".")[:2])
+
+
+def set_compiled(flag):
+    """Use the compiled passes (``True``, when numba is installed) or the numpy ones (``False``)."""
+    global _compiled
+    if not isinstance(flag, bool):
+        raise ParameterError(f"compiled must be True or False, got {flag!r}")
+    _compiled = flag
+
+
+@contextlib.contextmanager
+def use_compiled(flag):
+    """Context manager selecting the compiled or the numpy passes for the duration of a block."""
+    previous = _compiled
+    set_compiled(flag)
+    try:
+        yield
+    finally:
+        set_compiled(previous)
+
+
+def passes(cells=None):
+    """The passes for a grid of ``cells`` cells: compiled when selected, numba is installed and the grid
+    has :data:`COMPILED_FROM` cells or more (or ``cells`` is None), else numpy."""
+    if not (_compiled and (cells is None or cells >= COMPILED_FROM) and numba_available()):
+        return NumpyPasses
+    if "compiled" not in _cache:
+        # Reassociation lets the sums use vector registers; "no NaN" lets the selections on the contact
+        # set use them too (the solver refuses a NaN separation, and no pass makes one from numbers).
+        # Infinities keep their meaning.
+        jit = _cache["numba"].njit(cache=True, nogil=True, fastmath={"reassoc", "nsz", "nnan"})
+        _cache["compiled"] = type("CompiledPasses", (), {name: staticmethod(jit(getattr(_Loops, name)))
+                                                         for name in _NAMES})
+    return _cache["compiled"]
+
+
+_NAMES = ("gap", "centre", "direction", "curvature", "advance", "rescale")
+
+
+class _Loops:
+    """The passes as loops over the cells, for numba (in plain Python they would be far too slow).
+
+    Fields are walked as flat arrays (``ravel`` views of the C-ordered grids):
+    plain indices let the compiler use vector registers, which an offset
+    index (``i + first``, possibly negative to numba) prevents; the box of
+    :meth:`curvature` is walked by rows of its own.
+    """
+
+    def gap(base, displacement, pressure, gap, contact):
+        total, count, square = 0.0, 0.0, 0.0
+        for k in range(base.size):
+            u = displacement[k]
+            value = base[k] + u
+            gap[k] = value
+            inside = pressure[k] > 0.0
+            contact[k] = inside
+            # selections, not branches: they keep the loop on vector registers
+            total += value if inside else 0.0
+            count += 1.0 if inside else 0.0
+            square += u * u
+        return total, count, square
+
+    def centre(gap, contact, shift):
+        norm, overlaps = 0.0, 0.0
+        for k in range(gap.size):
+            value = gap[k] - shift
+            gap[k] = value
+            inside = contact[k]
+            norm += value * value if inside else 0.0
+            overlaps += 1.0 if value < 0.0 and not inside else 0.0
+        return norm, overlaps
+
+    def direction(direction, gap, contact, beta):
+        numerator = 0.0
+        for k in range(gap.size):
+            value = beta * direction[k] + gap[k] if contact[k] else 0.0
+            direction[k] = value
+            numerator += value * gap[k]
+        return numerator
+
+    def curvature(response, direction, contact, first, second):
+        product, inside, total = 0.0, 0.0, 0.0
+        rows, columns = response.shape
+        for i in range(rows):
+            r = response[i]
+            d = direction[first + i, second:second + columns]
+            c = contact[first + i, second:second + columns]
+            for j in range(columns):
+                product += r[j] * d[j]
+                inside += r[j] if c[j] else 0.0
+                total += d[j]
+        return product, inside, total
+
+    def advance(fresh, pressure, direction, gap, contact, step, entry):
+        total = 0.0
+        for k in range(gap.size):
+            g = gap[k]
+            value = max(pressure[k] - step * direction[k], 0.0) if contact[k] else (-entry * g if g < 0.0 else 0.0)
+            fresh[k] = value
+            total += value
+        return total
+
+    def rescale(fresh, pressure, factor):
+        moved, total = 0.0, 0.0
+        for k in range(fresh.size):
+            value = fresh[k] * factor
+            fresh[k] = value
+            moved += abs(value - pressure[k])
+            total += value
+        return moved, total
+
+
+def _dot(a, b):
+    """Sum of ``a * b`` (flat or 2-D) in numpy's own loop: BLAS threads stall when the cores are busy."""
+    axes = "ij"[:a.ndim]
+    return float(np.einsum(f"{axes},{axes}->", a, b))
+
+
+class NumpyPasses:
+    """The passes as numpy expressions, with the same arguments and results as :class:`_Loops`."""
+
+    @staticmethod
+    def gap(base, displacement, pressure, gap, contact):
+        np.add(base, displacement, out=gap)
+        np.greater(pressure, 0.0, out=contact)
+        return float(gap.sum(where=contact)), float(np.count_nonzero(contact)), float(np.abs(displacement).max()) ** 2
+
+    @staticmethod
+    def centre(gap, contact, shift):
+        np.subtract(gap, shift, out=gap)
+        inside = np.where(contact, gap, 0.0)
+        # gap < 0 on a free cell: the overlap is where the gap outside the contact set is negative
+        return _dot(inside, inside), float(np.count_nonzero(gap - inside < 0.0))
+
+    @staticmethod
+    def direction(direction, gap, contact, beta):
+        np.multiply(direction, beta, out=direction)
+        np.add(direction, gap, out=direction)
+        np.multiply(direction, contact, out=direction)
+        return _dot(direction, gap)
+
+    @staticmethod
+    def curvature(response, direction, contact, first, second):
+        box = (slice(first, first + response.shape[0]), slice(second, second + response.shape[1]))
+        return _dot(response, direction[box]), float(response.sum(where=contact[box])), float(direction[box].sum())
+
+    @staticmethod
+    def advance(fresh, pressure, direction, gap, contact, step, entry):
+        np.multiply(direction, step, out=fresh)
+        np.subtract(pressure, fresh, out=fresh)
+        np.maximum(fresh, 0.0, out=fresh)
+        if entry:
+            overlap = ~contact & (gap < 0.0)
+            fresh[overlap] = -entry * gap[overlap]
+        return float(fresh.sum())
+
+    @staticmethod
+    def rescale(fresh, pressure, factor):
+        np.multiply(fresh, factor, out=fresh)
+        return float(np.abs(fresh - pressure).sum()), float(fresh.sum())

@@ -1,0 +1,182 @@
+"""The fused contact iteration (framework._fused) against the plain one it replaced.
+
+``solver._iterate_reference`` is the Polonsky-Keer loop as plain numpy
+expressions, kept as the reference. Both loops are run to a tolerance of 1e-14,
+where each reaches the one solution of the discrete problem, so that pressures,
+displacements, gaps and approaches must agree to 1e-12 of their largest value
+whatever the rounding of the sums. Grids of 64^2 (open, with the box of the
+windowed product) and 64^2 periodic; load and approach control; a rough
+surface; a tilting punch.
+
+One exception, approach control: both loops stop where the gap over the
+contact is flat to 1e-12 of the displacement (the solver's rounding floor,
+below which it takes no step), and there a pressure with no load to fix its
+scale, and the displacement it makes, are only determined to a few times that:
+between the compiled and the reference loop on the open grid, 1.5e-12 to 2e-11
+from one process to the next (FFTW chooses its plans, and so its rounding, by
+timing them): 1e-10.
+"""
+import numpy as np
+import pytest
+
+import framework as fw
+from framework import _fused, indenters, materials, schedules, solver
+from framework.errors import ParameterError
+from framework.operators import SurfaceCompliance
+
+ELASTIC = materials.Elastic(young=1e9, poisson=0.3)
+TIGHT = fw.SolverOptions(tolerance=1e-14, residual_tolerance=1e-10)
+COMPLIANCE = 1 / ELASTIC.contact_modulus
+PASSES = [False, pytest.param(True, marks=pytest.mark.skipif(not _fused.numba_available(),
+                                                              reason="numba is not installed (the jit extra)"))]
+
+
+@pytest.fixture(autouse=True)
+def compile_small_grids(monkeypatch):
+    """The compiled passes on these small grids too (a run takes them from 128^2 cells)."""
+    monkeypatch.setattr(_fused, "COMPILED_FROM", 0)
+
+
+def solve(grid, heights, reference, **control):
+    operator = SurfaceCompliance(grid)
+    loop = solver._iterate_reference if reference else solver._iterate
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(solver, "_iterate", loop)
+        return fw.solve_normal(lambda p: operator.apply(p, COMPLIANCE, copy=False), heights,
+                               cell_area=grid.cell_area, options=TIGHT, window=operator.window,
+                               apply_window=lambda f, box: operator.apply_window(f, box, COMPLIANCE, copy=False),
+                               **control)
+
+
+def assert_same(fast, plain, tolerance=1e-12):
+    for name in ("pressure", "displacement", "gap"):
+        a, b = getattr(fast, name), getattr(plain, name)
+        assert np.abs(a - b).max() <= tolerance * np.abs(b).max(), name
+    assert fast.approach == pytest.approx(plain.approach, rel=tolerance)
+    assert fast.load == pytest.approx(plain.load, rel=tolerance)
+    assert fast.success and plain.success
+
+
+@pytest.mark.parametrize("compiled", PASSES)
+@pytest.mark.parametrize("periodic", [False, True])
+@pytest.mark.parametrize("control", ["load", "approach"])
+def test_fused_loop_gives_the_reference_solution(compiled, periodic, control):
+    """A sphere on 64^2 cells, contact radius about a quarter of the grid side."""
+    grid = fw.Grid(shape=(64, 64), size=(2e-3, 2e-3), periodic=(periodic, periodic))
+    heights = indenters.Sphere(radius=10e-3).on_grid(grid)
+    arguments = {"load": 5.0} if control == "load" else {"approach": heights.min() + 1e-5}
+    with _fused.use_compiled(compiled):
+        fast = solve(grid, heights, False, **arguments)
+    plain = solve(grid, heights, True, **arguments)
+    assert_same(fast, plain, 1e-12 if control == "load" else 1e-10)
+    # the displacement returned is the one of the pressure returned (the products write into reused buffers)
+    check = SurfaceCompliance(grid).apply(fast.pressure, COMPLIANCE)
+    assert np.abs(fast.displacement - check).max() <= 1e-13 * np.abs(check).max()
+    assert fast.iterations > 5 and 0.05 < np.mean(fast.pressure > 0) < 0.5   # a real solve, not a trivial one
+
+
+@pytest.mark.parametrize("compiled", PASSES)
+def test_fused_loop_gives_the_reference_rough_contact(compiled):
+    """A random rough surface on a periodic 64^2 grid: many spots in every row, which merge and split."""
+    grid = fw.Grid(shape=(64, 64), size=(1e-3, 1e-3), periodic=(True, True))
+    rng = np.random.default_rng(7)
+    spectrum = np.fft.rfft2(rng.standard_normal(grid.shape))
+    q = np.hypot(*np.meshgrid(np.fft.fftfreq(64), np.fft.rfftfreq(64), indexing="ij"))
+    spectrum *= np.where((q > 0) & (q < 0.2), np.maximum(q, 1e-3) ** -1.8, 0.0)
+    heights = np.fft.irfft2(spectrum, grid.shape)
+    heights *= 1e-6 / heights.std()   # 1 um rms
+    with _fused.use_compiled(compiled):
+        fast = solve(grid, heights, False, load=1.0)
+    plain = solve(grid, heights, True, load=1.0)
+    assert_same(fast, plain)
+    touched = fast.pressure > 0
+    assert 0.05 < touched.mean() < 0.5 and 0.5 < touched.any(axis=1).mean() < 1   # spots in most rows, not all
+
+
+@pytest.mark.parametrize("compiled", PASSES)
+def test_fused_loop_gives_the_reference_tilt(compiled):
+    """A flat punch on 64^2 cells under an eccentric load: the tilt and the clipped edge agree too."""
+    grid = fw.Grid(shape=(64, 64), size=(3e-3, 3e-3))
+    heights = indenters.FlatPunch(radius=1e-3).on_grid(grid)
+    arguments = dict(load=10.0, offset=(0.4e-3, -0.1e-3), coordinates=grid.coordinates())
+    with _fused.use_compiled(compiled):
+        fast = solve(grid, heights, False, **arguments)
+    plain = solve(grid, heights, True, **arguments)
+    assert_same(fast, plain)
+    assert fast.slopes == pytest.approx(plain.slopes, rel=1e-10)
+    assert 0 < np.mean(fast.pressure > 0) < np.mean(heights == heights.min())  # the far edge lifted off
+
+
+def test_fused_loop_gives_the_reference_eccentric_run(monkeypatch):
+    """Through the stepper: a ball creeping into a standard linear solid under an eccentric step load,
+    three output times (the contact grows and moves, the ball tilts about both axes)."""
+    grid = fw.Grid(shape=(48, 48), size=(3e-3, 3e-3))
+    visco = materials.StandardLinearSolid(e_inf=1e9, e_1=2e9, tau=1.0, poisson=0.3)
+
+    def run():
+        return fw.Simulation(grid=grid, material=visco, indenter=indenters.Sphere(radius=10e-3),
+                             schedule=schedules.Eccentric(load=10.0, offset=(0.1e-3, 0.05e-3), times=[0.0, 0.5, 3.0]),
+                             options={"tolerance": 1e-14, "residual_tolerance": 1e-10}).run()
+    fast = run()
+    monkeypatch.setattr(solver, "_iterate", solver._iterate_reference)
+    plain = run()
+    for step in range(3):
+        for field in (fast.pressure, fast.displacement):
+            reference = getattr(plain, field.__name__)(step)
+            assert np.abs(field(step) - reference).max() <= 1e-12 * np.abs(reference).max()
+    assert np.allclose(fast.tilt, plain.tilt, rtol=1e-12, atol=0) and np.abs(plain.tilt).min() > 1e-4
+
+
+@pytest.mark.skipif(not _fused.numba_available(), reason="numba is not installed (the jit extra)")
+def test_compiled_passes_equal_numpy_passes():
+    """Each pass on the same random fields (a contact set, free cells that interpenetrate): fields
+    bit for bit where no sum is involved, sums to rounding (1e-12)."""
+    rng = np.random.default_rng(3)
+    shape = (37, 23)
+    pressure = np.where(rng.random(shape) < 0.4, rng.random(shape), 0.0)
+    fields = dict(base=rng.random(shape), displacement=rng.random(shape), direction=rng.standard_normal(shape),
+                  response=rng.standard_normal((11, 7)))
+    results = {}
+    for compiled in (False, True):
+        with _fused.use_compiled(compiled):
+            passes = _fused.passes()
+            gap, contact = np.empty(shape), np.empty(shape, dtype=bool)
+            direction, fresh = fields["direction"].copy(), np.empty(shape)
+            flat = [a.reshape(-1) for a in (gap, contact, direction, fresh)]
+            sums = [passes.gap(fields["base"].reshape(-1), fields["displacement"].reshape(-1), pressure.reshape(-1),
+                               flat[0], flat[1])]
+            sums.append(passes.centre(flat[0], flat[1], 0.7))
+            sums.append(passes.direction(flat[2], flat[0], flat[1], 0.3))
+            sums.append(passes.curvature(fields["response"], direction, contact, 5, 9))
+            sums.append(passes.advance(flat[3], pressure.reshape(-1), flat[2], flat[0], flat[1], 0.2, 0.5))
+            sums.append(passes.rescale(flat[3], pressure.reshape(-1), 1.3))
+            results[compiled] = (np.concatenate([np.ravel(s) for s in sums]), gap, contact, direction, fresh)
+    numpy_sums, compiled_sums = results[False][0], results[True][0]
+    numpy_sums[2] = compiled_sums[2] = 0.0  # the numpy pass returns max u^2, the compiled one the bound sum u^2
+    assert np.allclose(compiled_sums, numpy_sums, rtol=1e-12, atol=0)
+    for a, b in zip(results[False][1:], results[True][1:]):
+        assert np.array_equal(a, b)
+    assert results[False][2].any() and not results[False][2].all() and (results[False][4] > 0).any()
+
+
+def test_nan_separation_is_refused():
+    grid = fw.Grid(shape=(16, 16), size=(1e-3, 1e-3))
+    heights = indenters.Sphere(radius=10e-3).on_grid(grid)
+    heights[3, 4] = np.nan
+    operator = SurfaceCompliance(grid)
+    with pytest.raises(ParameterError, match=r"base_gap must hold numbers .* got NaN at 1 of its 256 cells"):
+        fw.solve_normal(operator.apply, heights, cell_area=grid.cell_area, load=1.0)
+
+
+def test_compiled_choice_must_be_a_boolean():
+    with pytest.raises(ParameterError, match=r"compiled must be True or False, got 1"):
+        _fused.set_compiled(1)
+
+
+def test_small_grids_take_the_numpy_passes(monkeypatch):
+    monkeypatch.setattr(_fused, "COMPILED_FROM", 100)
+    with _fused.use_compiled(True):
+        assert _fused.passes(99) is _fused.NumpyPasses
+        assert (_fused.passes(100) is _fused.NumpyPasses) == (not _fused.numba_available())
+    with _fused.use_compiled(False):
+        assert _fused.passes(10**6) is _fused.NumpyPasses
