@@ -31,6 +31,7 @@ bench: $(STAMP)
 	$(PY) bench/rolling.py
 	$(PY) bench/inclusion.py
 	$(PY) bench/rolling_inclusion.py
+	$(PY) bench/scale.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

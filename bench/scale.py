@@ -1,5 +1,5 @@
 """Large grids: time and peak memory of an elastic solve on 2048^2 (open) and 4096^2 (periodic), and of
-the subsurface stresses on 256^2 x 64 layers under a memory budget.
+the subsurface stresses on 256^2 x 64 layers under a memory budget; the speed-up of FFT threads.
 
 Each case runs in a process of its own, so that the peak resident size printed is that case's
 (``ru_maxrss`` of the child). The elastic cases are the Hertz contact of ``bench/elastic_hertz.py``
@@ -8,7 +8,7 @@ end to end. The stress case computes ``Result.stress`` of one step, whose kernel
 depth) are cached while they fit in ``Result.stress_memory``: below that budget they are rebuilt at
 every call.
 
-    .venv/bin/python bench/scale.py [--cases open2048 periodic4096 stress256]
+    .venv/bin/python bench/scale.py [--cases open2048 periodic4096 stress256 stress256_budget threads1024]
 """
 import argparse
 import json
@@ -26,35 +26,46 @@ YOUNG, POISSON, RADIUS, SIDE = 1e9, 0.3, 10e-3, 2e-3
 def hertz(n, periodic):
     import numpy as np
     import framework as fw
-    from framework import indenters, loads, materials, reference, schedules
+    from framework import indenters, materials, reference, schedules
     contact_modulus = YOUNG / (1 - POISSON**2)
     exact = reference.HertzSphere.from_contact_radius(RADIUS, 0.15 * SIDE, contact_modulus)
     begin = time.perf_counter()
     grid = fw.Grid(shape=(n, n), size=(SIDE, SIDE), periodic=(periodic, periodic))
     sim = fw.Simulation(grid=grid, material=materials.Elastic(YOUNG, POISSON), indenter=indenters.Sphere(RADIUS),
-                        schedule=schedules.Static(load=loads.Step(exact.load), times=[1.0]),
-                        options={"tolerance": 1e-8})
+                        schedule=schedules.Static(load=exact.load), options={"tolerance": 1e-8})
     result = sim.run()
     seconds = time.perf_counter() - begin
     peak = float(result.max_pressure[-1])
-    return dict(seconds=seconds, iterations=int(result.records[-1].iterations),
+    return dict(seconds=seconds, iterations=int(sum(record.iterations for record in result.records)),
                 p0_error=peak / exact.max_pressure - 1, cells=n * n)
 
 
 def stress(n, layers, budget):
     import framework as fw
-    from framework import indenters, loads, materials, schedules
+    from framework import indenters, materials, schedules
     grid = fw.Grid(shape=(n, n), size=(SIDE, SIDE), depth=0.5 * SIDE, layers=layers)
     sim = fw.Simulation(grid=grid, material=materials.Elastic(YOUNG, POISSON), indenter=indenters.Sphere(RADIUS),
-                        schedule=schedules.Static(load=loads.Step(10.0), times=[1.0]))
+                        schedule=schedules.Static(load=[5.0, 10.0]))
     result = sim.run()
     result.stress_memory = budget
     timings = []
-    for _ in range(2):                      # the second call finds the cached spectra (if they fit)
+    for step in range(2):                   # the second step finds the cached spectra (if they fit)
         begin = time.perf_counter()
-        field = result.stress(step=-1)
+        field = result.stress(step=step)
         timings.append(time.perf_counter() - begin)
     return dict(first=timings[0], second=timings[1], field_bytes=field.nbytes, budget=budget)
+
+
+def threads(n):
+    """The same open Hertz solve with one FFT thread and with every core (``FRAMEWORK_FFT_THREADS=auto``)."""
+    from framework import fft
+    out = {}
+    for name, count in (("one", 1), ("auto", fft.available_cores())):
+        fft.set_threads(count)
+        hertz(n, False)                      # plans for this thread count
+        out[name] = min(hertz(n, False)["seconds"] for _ in range(2))
+    out["cores"] = fft.available_cores()
+    return out
 
 
 CASES = {
@@ -62,6 +73,7 @@ CASES = {
     "periodic4096": lambda: hertz(4096, True),
     "stress256": lambda: stress(256, 64, 2 * 1024**3),
     "stress256_budget": lambda: stress(256, 64, 64 * 1024**2),
+    "threads1024": lambda: threads(1024),
 }
 
 
@@ -89,12 +101,15 @@ def main():
             print(f"{name}: failed\n{run.stderr[-2000:]}")
             continue
         out = json.loads(run.stdout.strip().splitlines()[-1])
-        if "iterations" in out:
+        if "cores" in out:
+            print(f"{name:>17}: 1024^2 open solve end to end, 1 FFT thread {out['one']:.2f} s, {out['cores']} threads "
+                  f"(auto) {out['auto']:.2f} s: speed-up {out['one'] / out['auto']:.2f}")
+        elif "iterations" in out:
             print(f"{name:>17}: {out['cells'] / 1e6:.1f} M cells, end to end {out['seconds']:.1f} s, "
                   f"{out['iterations']} iterations, p0 error {out['p0_error']:+.1e}, peak memory {out['peak_gib']:.2f} GiB")
         else:
             print(f"{name:>17}: 256^2 x 64 layers ({out['field_bytes'] / 2**20:.0f} MiB of stress), budget "
-                  f"{out['budget'] / 2**20:.0f} MiB: first call {out['first']:.1f} s, second {out['second']:.1f} s, "
+                  f"{out['budget'] / 2**20:.0f} MiB: first step {out['first']:.1f} s, second {out['second']:.1f} s, "
                   f"peak memory {out['peak_gib']:.2f} GiB")
 
 
