@@ -366,6 +366,9 @@ class Result:
                          "schedule": describe(self.schedule), "options": describe(self.options)}
         if self.inclusions:  # left out without inhomogeneities: such files read as before
             configuration["inclusions"] = describe(self.inclusions)
+            # the eigenstrain operator's discretisation: a checkpoint written with the earlier collocated
+            # operator lacks this key, so it is not resumed with the cell-averaged one
+            configuration["eigenstrain_operator"] = "cell-averaged"
         return configuration
 
     def save(self, path):

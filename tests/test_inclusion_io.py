@@ -76,8 +76,28 @@ def test_resume_refuses_a_checkpoint_without_the_inhomogeneities(tmp_path):
     plain = simulation(loads=[20.0])
     plain = fw.Simulation(grid=plain.grid, material=plain.material, indenter=plain.indenter, schedule=plain.schedule)
     plain.run(checkpoint=tmp_path / "c.h5")
-    with pytest.raises(errors.ParameterError, match=r"another configuration \(inclusions differ\)"):
+    with pytest.raises(errors.ParameterError, match=r"another configuration \(eigenstrain_operator, inclusions differ\)"):
         simulation(loads=[20.0]).run(resume=tmp_path / "c.h5")
     simulation(loads=[20.0]).run(checkpoint=tmp_path / "d.h5")
-    with pytest.raises(errors.ParameterError, match=r"another configuration \(inclusions differ\)"):
+    with pytest.raises(errors.ParameterError, match=r"another configuration \(eigenstrain_operator, inclusions differ\)"):
         plain.run(resume=tmp_path / "d.h5")
+
+
+def test_configuration_names_the_eigenstrain_operator(tmp_path):
+    """A run with inhomogeneities records its operator's discretisation (a checkpoint of the collocated
+    operator, without the key, is refused on resume); runs without them keep their old configuration."""
+    import framework as fw
+    from framework import indenters, materials, schedules
+    grid = fw.Grid(shape=(32, 32), size=(1e-3, 1e-3), depth=0.5e-3, layers=16)
+    plain = fw.Simulation(grid=grid, material=materials.Elastic(200e9, 0.3), indenter=indenters.Sphere(radius=5e-3),
+                          schedule=schedules.Static(load=1.0))
+    assert "eigenstrain_operator" not in plain.run().configuration()
+    from framework import inclusions
+    body = inclusions.Ellipsoid(center=(0, 0, 0.25e-3), semi_axes=(0.12e-3,) * 3, material=materials.Elastic(600e9, 0.22))
+    sim = fw.Simulation(grid=grid, material=materials.Elastic(200e9, 0.3), indenter=indenters.Sphere(radius=5e-3),
+                        schedule=schedules.Static(load=[0.5, 1.0]), inclusions=[body])
+    result = sim.run()
+    assert result.configuration()["eigenstrain_operator"] == "cell-averaged"
+    path = tmp_path / "run.h5"
+    result.save(path)
+    assert fw.load_result(path).configuration() == result.configuration()
