@@ -117,6 +117,20 @@ def test_dynamic_fit_recovers_a_known_series_times_included():
     assert fit.rms_error < 1e-12 * np.abs(data).max()
 
 
+def test_dynamic_fit_takes_the_data_by_their_api_names():
+    """``fit_prony(frequencies=..., complex_modulus=..., kind="dynamic")`` is the positional call; mixing the
+    two spellings, or the DMA names with another kind, is refused by name."""
+    data = THREE.complex_modulus(W)
+    by_name = fit_prony(frequencies=W, complex_modulus=data, kind="dynamic", n_terms=3, poisson=0.45)
+    assert by_name.terms == fit_prony(W, data, kind="dynamic", n_terms=3, poisson=0.45).terms
+    with pytest.raises(errors.ParameterError, match="frequencies and complex_modulus are the data of kind='dynamic'"):
+        fit_prony(frequencies=W, complex_modulus=data, kind="relaxation", poisson=0.45)
+    with pytest.raises(errors.ParameterError, match="frequencies and complex_modulus are the data of kind='dynamic'"):
+        fit_prony(W, data, kind="dynamic", frequencies=W, poisson=0.45)
+    with pytest.raises(errors.ParameterError, match="fit_prony needs the data"):
+        fit_prony(kind="dynamic", poisson=0.45)
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_dynamic_fit_recovers_random_series(seed):
     """Random times (at least half a decade apart) over eight decades, random moduli: recovered to 1e-6."""

@@ -131,7 +131,8 @@ def _time_grid(t, n_terms, times):
     return np.geomspace(low, high, n_terms)
 
 
-def fit_prony(t, values, kind="relaxation", n_terms=None, times=None, *, poisson):
+def fit_prony(t=None, values=None, kind="relaxation", n_terms=None, times=None, *, poisson, frequencies=None,
+              complex_modulus=None):
     """Fit a Prony series to relaxation, creep or dynamic (DMA) data.
 
     Relaxation: ``E(t) = e_inf + sum_i E_i exp(-t/tau_i)``; creep:
@@ -164,6 +165,9 @@ def fit_prony(t, values, kind="relaxation", n_terms=None, times=None, *, poisson
         starting times, fitted further).
     poisson : float
         Poisson ratio of the material (keyword, required), in (-1, 0.5].
+    frequencies, complex_modulus : array_like, optional
+        The DMA data by their own names (keywords, instead of ``t`` and
+        ``values``; ``kind`` must then be ``"dynamic"``).
 
     Returns
     -------
@@ -181,6 +185,15 @@ def fit_prony(t, values, kind="relaxation", n_terms=None, times=None, *, poisson
     """
     if kind not in ("relaxation", "creep", "dynamic"):
         raise ParameterError(f"kind must be 'relaxation', 'creep' or 'dynamic', got {kind!r}")
+    if frequencies is not None or complex_modulus is not None:
+        if kind != "dynamic" or t is not None or values is not None:
+            raise ParameterError(f"frequencies and complex_modulus are the data of kind='dynamic' and replace t and "
+                                 f"values; got kind={kind!r} with t and values "
+                                 f"{'given' if t is not None or values is not None else 'absent'}")
+        t, values = frequencies, complex_modulus
+    if t is None or values is None:
+        raise ParameterError("fit_prony needs the data: t and values (or, for kind='dynamic', frequencies and "
+                             "complex_modulus)")
     check_poisson(poisson)
     if kind == "dynamic":
         return _fit_dynamic(t, values, n_terms, times, poisson)
