@@ -25,13 +25,10 @@ test-all: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) -m pip install --quiet tamaas
-	$(PY) bench/elastic_hertz.py
-	$(PY) bench/contact_loop.py
-	$(PY) bench/visco_indentation.py
+	$(PY) bench/summary.py
 	$(PY) bench/rolling.py
 	$(PY) bench/inclusion.py
 	$(PY) bench/rolling_inclusion.py
-	$(PY) bench/scale.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

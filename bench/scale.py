@@ -84,6 +84,14 @@ def child(name):
     print(json.dumps(out))
 
 
+def measure(name):
+    """Run one case in a process of its own; its figures as a dict (``peak_gib`` its peak memory)."""
+    run = subprocess.run([sys.executable, os.path.abspath(__file__), "--child", name], capture_output=True, text=True)
+    if run.returncode:
+        raise RuntimeError(run.stderr[-2000:])
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
@@ -95,12 +103,11 @@ def main():
     from elastic_hertz import machine
     print(machine())
     for name in args.cases:
-        run = subprocess.run([sys.executable, os.path.abspath(__file__), "--child", name], capture_output=True,
-                             text=True)
-        if run.returncode:
-            print(f"{name}: failed\n{run.stderr[-2000:]}")
+        try:
+            out = measure(name)
+        except RuntimeError as error:
+            print(f"{name}: failed\n{error}")
             continue
-        out = json.loads(run.stdout.strip().splitlines()[-1])
         if "cores" in out:
             print(f"{name:>17}: 1024^2 open solve end to end, 1 FFT thread {out['one']:.2f} s, {out['cores']} threads "
                   f"(auto) {out['auto']:.2f} s: speed-up {out['one'] / out['auto']:.2f}")
