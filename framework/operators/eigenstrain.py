@@ -134,15 +134,17 @@ def cell_average_rule(cell, points=None):
 
 
 def potential_kernel_items(faces1, faces2, faces3, cell=None):
-    """:func:`potential_kernels` one key at a time, ``(key, array)``: a lattice array or two in memory."""
+    """:func:`potential_kernels` one key at a time, ``(key, array)``: a few lattice arrays in memory (the
+    offsets' lengths at each point of the averaging rule, and the key's sum)."""
     shape = (len(faces1), len(faces2), len(faces3))
-    shifts, weights = cell_average_rule(cell)
+    rule = []           # per point of the rule: its weight, the offsets and their lengths (shared by the keys)
+    for shift, weight in zip(*cell_average_rule(cell)):
+        t = [np.broadcast_to(c, shape) for c in np.meshgrid(faces1 + shift[0], faces2 + shift[1], faces3 + shift[2],
+                                                            indexing="ij", sparse=True)]
+        rule.append((weight, t, np.sqrt(t[0] ** 2 + t[1] ** 2 + t[2] ** 2)))
     for key in KEYS:
         total = 0.0
-        for shift, weight in zip(shifts, weights):
-            t = [np.broadcast_to(c, shape) for c in np.meshgrid(faces1 + shift[0], faces2 + shift[1], faces3 + shift[2],
-                                                                indexing="ij", sparse=True)]
-            r = np.sqrt(t[0] ** 2 + t[1] ** 2 + t[2] ** 2)
+        for weight, t, r in rule:
             total = total + weight * _corner_function(key, t, r)
         # Per axis, int_a^b f(x - x') dx' = H(x - a) - H(x - b): a forward difference in t = x - c.
         yield key, np.diff(np.diff(np.diff(total, axis=0), axis=1), axis=2)
@@ -362,6 +364,7 @@ class HalfSpaceEigenstrain:
         self._stress = SubsurfaceStress(self._patch_grid, poisson)
         self._surface_stress = None
         self._love = None
+        self._phase = None
 
     def _stiffness_spectra(self, items, real):
         """Spectra of the 21 entries ``a <= b`` of ``C : D`` (unit Young's modulus, Mandel basis).
@@ -418,12 +421,18 @@ class HalfSpaceEigenstrain:
             raise ShapeError(f"eigenstrain has shape {np.shape(eigenstrain)}, the operator's box is {expected}")
         return np.asarray(eigenstrain, dtype=float)
 
-    def _shift(self, sign):
-        """Phase ``exp(sign 2 pi i k . f / N)`` of the footprint's offset ``f`` in the patch's padded arrays."""
-        (big1, big2), (f1, f2) = self._stress._convolution.fft_shape, (s.start for s in self._footprint)
-        k1 = np.fft.fftfreq(big1) * f1
-        k2 = np.arange(big2 // 2 + 1) / big2 * f2
-        return np.exp(sign * 2j * np.pi * (k1[:, None] + k2[None, :]))
+    def _shift(self):
+        """Phase ``exp(-2 pi i k . f / N)`` of the footprint's offset ``f`` in the patch's padded arrays.
+
+        Built when the box moves, not at every product (its conjugate shifts the other way).
+        """
+        f1, f2 = (s.start for s in self._footprint)
+        if self._phase is None or self._phase[0] != (f1, f2):
+            big1, big2 = self._stress._convolution.fft_shape
+            k1 = np.fft.fftfreq(big1) * f1
+            k2 = np.arange(big2 // 2 + 1) / big2 * f2
+            self._phase = ((f1, f2), np.exp(-2j * np.pi * (k1[:, None] + k2[None, :])))
+        return self._phase[1]
 
     def surface_traction(self, eigenstrain):
         """Pressure ``2 s33(x1, x2, 0)`` [Pa per unit Young's modulus] over the surface patch ``patch``.
@@ -440,7 +449,7 @@ class HalfSpaceEigenstrain:
         # the footprint's place in the patch is one phase on the sum. Every layer and component at once.
         rows = scipy.fft.rfft(layers, n=big2, axis=-1, workers=fft.THREADS)
         spectra = scipy.fft.fft(rows, n=big1, axis=-2, workers=fft.THREADS, overwrite_x=True)
-        total = np.einsum("lcij,lcij->ij", self._traction, spectra) * self._shift(-1)
+        total = np.einsum("lcij,lcij->ij", self._traction, spectra) * self._shift()
         return 2.0 * fft.irfft2(total, (big1, big2))[:n1, :n2]
 
     def _correction(self, pressure):
@@ -450,7 +459,7 @@ class HalfSpaceEigenstrain:
         convolution = self._stress._convolution
         m1, m2 = self.shape[:2]
         # Shifted so that the footprint starts at the origin; only its m1 rows go on to the x2 transform.
-        spectrum = convolution.transform(pressure) * self._shift(1)
+        spectrum = convolution.transform(pressure) * np.conj(self._shift())
         columns = scipy.fft.ifft(self._love * spectrum, axis=-2, workers=fft.THREADS, overwrite_x=True)[..., :m1, :]
         full = scipy.fft.irfft(columns, n=convolution.fft_shape[1], axis=-1, workers=fft.THREADS)
         return np.transpose(full[..., :m2], (2, 3, 0, 1))
