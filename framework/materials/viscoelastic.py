@@ -457,12 +457,12 @@ class Viscoelastic(DynamicModuli):
     @property
     def relaxation_times(self):
         """The ``tau_i`` [s] at the material's temperature, as an array."""
-        return np.array([tau for _, tau in self.terms], dtype=float) * self._factor
+        return np.array([tau for _, tau in self.relaxation_terms[1]], dtype=float)
 
     @property
     def retardation_times(self):
         """The ``lambda_k`` [s] at the material's temperature, as an array."""
-        return np.array([lam for _, lam in self._creep], dtype=float) * self._factor
+        return np.array([lam for _, lam in self.creep_terms[1]], dtype=float)
 
     @property
     def instantaneous_modulus(self):
