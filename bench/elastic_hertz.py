@@ -43,8 +43,8 @@ def errors_against_hertz(pressure, cell_area, exact):
     return pressure.max() / exact.max_pressure - 1, radius / exact.contact_radius - 1
 
 
-def ours(n, load, tolerance, repeat):
-    grid = fw.Grid(shape=(n, n), size=(SIDE, SIDE))
+def ours(n, load, tolerance, repeat, periodic=False):
+    grid = fw.Grid(shape=(n, n), size=(SIDE, SIDE), periodic=(periodic, periodic))
     material = materials.Elastic(young=YOUNG, poisson=POISSON)
     start = time.perf_counter()
     operator = SurfaceCompliance(grid)
@@ -63,11 +63,11 @@ def ours(n, load, tolerance, repeat):
                 cell_area=grid.cell_area)
 
 
-def theirs(n, load, tolerance, repeat):
+def theirs(n, load, tolerance, repeat, method="dcfft"):
     import _tamaas
     best, out = np.inf, None
     for _ in range(repeat):
-        out = _tamaas.hertz(n, SIDE, RADIUS, load, YOUNG, POISSON, tolerance)
+        out = _tamaas.hertz(n, SIDE, RADIUS, load, YOUNG, POISSON, tolerance, method=method)
         best = min(best, out["time"])
     out["time"] = best
     out["cell_area"] = (SIDE / n) ** 2

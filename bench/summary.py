@@ -3,9 +3,9 @@
 Runs, in this order, and prints the machine and then one row per figure:
 
 1. Hertz solves (contact radius 0.15 of the side): open 1024^2 at 1e-10 against Tamaas' DC-FFT; periodic
-   1024^2 at 1e-8 against Tamaas' periodic solve; end to end (the operator's kernel, the heights and the
-   solve; the FFT plans warm: the best of three runs) open and periodic at 256^2 and 1024^2, 1e-8, against
-   Tamaas' periodic solve (its solve call alone);
+   1024^2 at 1e-8 against Tamaas' periodic solve; end to end (the operator's kernel and the heights, built
+   once, plus the solve, the best of three) open and periodic at 256^2 and 1024^2, 1e-8, against Tamaas'
+   periodic solve (its solve call alone);
 2. the viscoelastic creep of ``visco_indentation.py`` (256^2, 50 steps, 1e-8) against Tamaas'
    ``MaxwellViscoelastic``, and the mean iterations per step after the first of it and of a PMMA ball
    under a step load (128^2, 50 log-spaced times);
@@ -19,19 +19,14 @@ Without Tamaas (``pip install tamaas``) the peer columns stay empty. About 12 mi
 """
 import os
 import sys
-import time
-
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-import framework as fw  # noqa: E402
-from framework import indenters, reference  # noqa: E402
-from framework.operators import SurfaceCompliance  # noqa: E402
-from framework.solver import SolverOptions, solve_normal  # noqa: E402
+from framework import reference  # noqa: E402
 
 import contact_loop  # noqa: E402
+import elastic_hertz  # noqa: E402
 import scale  # noqa: E402
 import visco_indentation  # noqa: E402
 from elastic_hertz import POISSON, RADIUS, SIDE, YOUNG, machine  # noqa: E402
@@ -40,29 +35,15 @@ EXACT = reference.HertzSphere.from_contact_radius(RADIUS, 0.15 * SIDE, YOUNG / (
 
 
 def ours(n, periodic, tolerance):
-    """Hertz end to end: ``(setup + solve [s], solve [s], iterations)``, the best of three (FFT plans warm)."""
-    best = None
-    for _ in range(3):
-        begin = time.perf_counter()
-        grid = fw.Grid(shape=(n, n), size=(SIDE, SIDE), periodic=(periodic, periodic))
-        operator = SurfaceCompliance(grid)
-        heights = indenters.Sphere(radius=RADIUS).on_grid(grid)
-        compliance = (1 - POISSON**2) / YOUNG
-        middle = time.perf_counter()
-        solution = solve_normal(lambda p: operator.apply(p, compliance, copy=False), heights,
-                                cell_area=grid.cell_area, load=EXACT.load, options=SolverOptions(tolerance=tolerance),
-                                window=operator.window,
-                                apply_window=lambda f, box: operator.apply_window(f, box, compliance, copy=False))
-        end = time.perf_counter()
-        row = (end - begin, end - middle, solution.iterations)
-        best = row if best is None or row[0] < best[0] else best
-    return best
+    """Hertz (``elastic_hertz.ours``): ``(setup + solve [s], solve [s], iterations)``, the solve the best of three."""
+    row = elastic_hertz.ours(n, EXACT.load, tolerance, 3, periodic=periodic)
+    return row["setup"] + row["time"], row["time"], row["iterations"]
 
 
 def tamaas(n, method, tolerance):
+    """Tamaas' solve time [s] (``elastic_hertz.theirs``), None without Tamaas."""
     try:
-        import _tamaas
-        return _tamaas.hertz(n, SIDE, RADIUS, EXACT.load, YOUNG, POISSON, tolerance, method=method)["time"]
+        return elastic_hertz.theirs(n, EXACT.load, tolerance, 1, method=method)["time"]
     except ImportError:
         return None
 
