@@ -42,7 +42,6 @@ coefficient and peak pressure with the body above the inhomogeneity against each
 line per value of the others (a single point where only one parameter differs from the base case).
 """
 import argparse
-import csv
 import os
 import time
 
@@ -50,6 +49,7 @@ import numpy as np
 
 import framework as fw
 from framework import inclusions, indenters, materials, schedules
+from framework.sweep import write_table
 
 MATRIX = materials.StandardLinearSolid(e_inf=1e9, e_1=2e9, tau=0.2, poisson=0.35)
 GLASS = materials.Elastic(young=70e9, poisson=0.22)
@@ -108,10 +108,7 @@ def main(cells=48, out="out/examples", sweep=0):
                   f"(body before it), {change[k_min]:+.3g} at {(base.position[k_min, 0] - AHEAD) * 1e3:+.2f} mm (after); "
                   f"peak pressure x{(results[case].max_pressure / base.max_pressure).max():.3f}")
     path = os.path.join(out, "rolling_inhomogeneity.csv")
-    with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_table(rows, path)
     print("wrote", path)
     pictures(results, out)
     return rows
