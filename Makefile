@@ -18,10 +18,10 @@ demo: $(STAMP)
 	$(PY) -m framework demo --out out
 
 test: $(STAMP)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto --maxprocesses 4
 
 test-all: $(STAMP)
-	$(PY) -m pytest -q -m "slow or not slow"
+	$(PY) -m pytest -q -n auto --maxprocesses 4 -m "slow or not slow"
 
 bench: $(STAMP)
 	$(PY) -m pip install --quiet tamaas
