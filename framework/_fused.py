@@ -12,6 +12,8 @@ over the grid that does all its work per cell and returns its sums:
 ``centre``     ``gap -= shift``; ``sum gap^2`` over the contact, whether a free
                cell interpenetrates
 ``direction``  ``d = beta d + gap`` on the contact, 0 elsewhere; ``sum d gap``
+``direction_box`` the same with ``d = beta d + z - mean``, ``z`` the
+               preconditioned gap on a box of the grid (preconditioned solves)
 ``curvature``  ``sum r d``, ``sum r`` over the contact and ``sum d``, with the
                response ``r`` on a box of the grid
 ``advance``    ``p' = max(p - step d, 0)`` on the contact, ``-entry gap`` on
@@ -100,7 +102,7 @@ def passes(cells=None):
     return _cache["compiled"]
 
 
-_NAMES = ("gap", "centre", "direction", "curvature", "advance", "rescale")
+_NAMES = ("gap", "centre", "direction", "direction_box", "curvature", "advance", "rescale")
 
 
 class _Loops:
@@ -142,6 +144,28 @@ class _Loops:
             value = beta * direction[k] + gap[k] if contact[k] else 0.0
             direction[k] = value
             numerator += value * gap[k]
+        return numerator
+
+    def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left):
+        numerator = 0.0
+        rows, columns = field.shape
+        width = direction.shape[1]
+        for i in range(first, last):
+            d = direction[i]
+            if i < top or i >= top + rows:
+                for j in range(width):
+                    d[j] = 0.0
+                continue
+            f, g, c = field[i - top], gap[i, left:left + columns], contact[i, left:left + columns]
+            for j in range(left):
+                d[j] = 0.0
+            for j in range(left + columns, width):
+                d[j] = 0.0
+            b = d[left:left + columns]
+            for j in range(columns):
+                value = beta * b[j] + f[j] - mean if c[j] else 0.0
+                b[j] = value
+                numerator += value * g[j]
         return numerator
 
     def curvature(response, direction, contact, first, second):
@@ -204,6 +228,17 @@ class NumpyPasses:
         np.add(direction, gap, out=direction)
         np.multiply(direction, contact, out=direction)
         return _dot(direction, gap)
+
+    @staticmethod
+    def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left):
+        box = (slice(top, top + field.shape[0]), slice(left, left + field.shape[1]))
+        rows = slice(min(first, box[0].start), max(last, box[0].stop))   # the box's rows and the old direction's
+        np.multiply(direction[rows], beta, out=direction[rows])
+        direction[box] += field
+        if mean:
+            direction[box] -= mean
+        np.multiply(direction[rows], contact[rows], out=direction[rows])
+        return _dot(direction[rows], gap[rows])
 
     @staticmethod
     def curvature(response, direction, contact, first, second):

@@ -27,6 +27,7 @@ from .grid import Grid
 from .history import HereditarySum, PronyRecursion, SteadyMemory
 from .indenters import Indenter
 from .operators.rolling import SteadyRollingCompliance, check_steady
+from .operators.stiffness import SurfaceStiffness
 from .operators.surface import SurfaceCompliance
 from .result import Result, StepRecord
 from .solver import SolverOptions, solve_normal
@@ -333,8 +334,8 @@ class Simulation:
                                load=load, options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4,
                                                                 raise_on_failure=False),
                                window=operator.window,
-                               apply_window=lambda f, box: operator.apply_window(f, box, compliance, copy=False)
-                               ).pressure > 0
+                               apply_window=lambda f, box: operator.apply_window(f, box, compliance, copy=False),
+                               precondition=SurfaceStiffness(grid).apply).pressure > 0
         along = (grid.x1, grid.x2)[axis]
         touched = along[contact.any(axis=1 - axis)]
         sign = np.sign(schedule.velocity[axis])
@@ -366,6 +367,7 @@ class Simulation:
         else:
             operator = getattr(self, "_surface", None) or SurfaceCompliance(grid)
             integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
+        stiffness = SurfaceStiffness(grid)   # the contact solves' preconditioner
         self._integrator, start, index = integrator, 0, 0
         if state is not None:
             integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")
@@ -385,6 +387,9 @@ class Simulation:
         self._predictor = predictor = _Predictor()
         if state is not None:
             predictor.restore(state)
+        def precondition(field):
+            return stiffness.apply(field, copy=False)
+
         for number, station in enumerate(self._timeline):
             if number < start:
                 continue
@@ -405,7 +410,7 @@ class Simulation:
                         lambda p: operator.apply(p, compliance, copy=False), heights + history_displacement + extra,
                         load=station.value if load_control else None,
                         approach=None if load_control else station.value, offset=offset, coordinates=coordinates,
-                        diagonal=compliance * operator.diagonal, **arguments)
+                        diagonal=compliance * operator.diagonal, precondition=precondition, **arguments)
                 if coupling is None:
                     solution = solve()
                 else:

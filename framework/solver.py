@@ -41,12 +41,19 @@ class SolverOptions:
     raise_on_failure : bool
         Raise :class:`ConvergenceError` when the solve does not converge (else
         return the result with ``success = False``).
+    preconditioned : bool
+        Precondition the conjugate gradients with the half-space's surface
+        stiffness (:class:`framework.operators.stiffness.SurfaceStiffness`)
+        where the caller provides it (:class:`framework.Simulation` does):
+        2-3 times fewer iterations; ``False`` gives the plain iteration of
+        Polonsky & Keer (the same solution to the tolerance).
     """
 
     tolerance: float = 1e-8
     residual_tolerance: float = 1e-6
     max_iterations: int = 2000
     raise_on_failure: bool = True
+    preconditioned: bool = True
 
     def __post_init__(self):
         for name in ("tolerance", "residual_tolerance"):
@@ -57,6 +64,7 @@ class SolverOptions:
             object.__setattr__(self, name, value)
         object.__setattr__(self, "max_iterations", check_positive_int(self.max_iterations, name="max_iterations"))
         object.__setattr__(self, "raise_on_failure", check_bool(self.raise_on_failure, name="raise_on_failure"))
+        object.__setattr__(self, "preconditioned", check_bool(self.preconditioned, name="preconditioned"))
 
 
 @dataclass
@@ -143,7 +151,7 @@ def _residual(gap, contact, displacement):
 
 def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initial=None,
                  options=SolverOptions(), window=None, apply_window=None, offset=None, coordinates=None,
-                 diagonal=None):
+                 diagonal=None, precondition=None):
     """Solve the frictionless normal contact by conjugate gradients.
 
     Parameters
@@ -178,6 +186,17 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         Displacement [m/Pa] of a cell under its own unit pressure (the
         operator's diagonal), which scales the re-entry of cells; computed
         with one product when not given.
+    precondition : callable, optional
+        ``precondition(field)`` returns an approximate inverse of the
+        operator applied to ``field`` (any shape: the gap on the box of
+        ``window``, or on the grid, as if periodic), e.g.
+        :meth:`SurfaceStiffness.apply <framework.operators.stiffness.SurfaceStiffness.apply>`;
+        it may return a buffer of its own. The conjugate gradients are then
+        preconditioned by it, restricted to the contact set (and projected as
+        the gap is): 2-3 times fewer iterations, each with one more FFT pair
+        (of the box). Only its direction counts, not its scale. Without it,
+        or with ``options.preconditioned`` False: the plain iteration of
+        Polonsky & Keer.
 
     Returns
     -------
@@ -229,7 +248,7 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
             raise LoadNotCarriedError(_not_carried(load, offset, pressure > 0))
 
     problem = _Problem(apply, base_gap, cell_area, load if load_control else None, approach, offset, targets, modes,
-                       options, window, apply_window, diagonal)
+                       options, window, apply_window, diagonal, precondition if options.preconditioned else None)
     pressure, displacement, gap, delta, coefficients, iteration, residual, change = _iterate(problem, pressure)
     displacement = np.array(displacement)   # apply's own buffer, perhaps
 
@@ -268,6 +287,7 @@ class _Problem:
     window: object
     apply_window: object
     diagonal: float = None
+    precondition: object = None
 
     def self_compliance(self):
         """Displacement of a cell under its own unit pressure (the operator is a convolution: any cell)."""
@@ -278,7 +298,12 @@ class _Problem:
         return self.diagonal
 
     def entry(self, step):
-        """The re-entry factor of Polonsky & Keer: the conjugate step, at most a cell's own stiffness."""
+        """The re-entry factor of Polonsky & Keer: the conjugate step, at most a cell's own stiffness.
+
+        Preconditioned, the step multiplies the preconditioned gap, not the gap: the caller passes the step
+        times the preconditioner's gain on the gap (``sum z g / sum g^2`` over the contact), the stiffness
+        the step applies to the gap, as the plain iteration's step is.
+        """
         return 1.0 / self.self_compliance() if step <= 0 else min(step, 1.0 / self.self_compliance())
 
 
@@ -311,6 +336,7 @@ def _iterate(problem, pressure):
     pressure = np.ascontiguousarray(pressure)
     fresh, direction, gap = np.empty_like(pressure), np.zeros_like(pressure), np.empty_like(pressure)
     contact = np.empty(pressure.shape, dtype=bool)
+    masked = {}   # box shape -> buffer of the gap on the contact set, for the preconditioner
     # the passes walk flat views of the grid fields (see framework._fused)
     flat_base, flat_gap, flat_contact, flat_direction = (a.reshape(-1) for a in (base, gap, contact, direction))
     whole = (slice(None), slice(None))
@@ -343,17 +369,29 @@ def _iterate(problem, pressure):
             residual = _residual(gap, contact, displacement)
             if residual < options.residual_tolerance or iteration == options.max_iterations or stalled > 2:
                 break
-        step = 0.0
+        step, gain = 0.0, 1.0
         # as in the reference: no direction when the gap is flat to rounding over the contact set; the
         # bound sum u^2 >= max u^2 spares the exact maximum unless the norm comes near that limit
         if norm > 1e-24 * square * count or norm > (1e-12 * np.abs(displacement).max()) ** 2 * count:
-            numerator = passes.direction(flat_direction[span], flat_gap[span], flat_contact[span],
-                                         norm / norm_old if conjugate else 0.0)
-            norm_old = norm
-            if problem.window is None:
-                box, response = whole, apply(direction)
+            box = whole if problem.window is None else problem.window(contact)
+            preconditioned = None
+            if problem.precondition is not None:
+                preconditioned, mean, product = _precondition(problem, gap, contact, box, count, load_control,
+                                                              masked)
+            if preconditioned is not None:
+                gain = product / norm
+                top, left = (0 if s.start is None else s.start for s in box)
+                numerator = passes.direction_box(direction, preconditioned, gap, contact,
+                                                 product / norm_old if conjugate else 0.0, mean,
+                                                 first_row, last_row, top, left)
+                norm_old = product
             else:
-                box = problem.window(contact)
+                numerator = passes.direction(flat_direction[span], flat_gap[span], flat_contact[span],
+                                             norm / norm_old if conjugate else 0.0)
+                norm_old = norm
+            if problem.window is None:
+                response = apply(direction)
+            else:
                 response = problem.apply_window(direction[box], box)
             if load_control and modes.tilt:
                 response -= modes.fit(response, contact[box], box)[0]
@@ -369,7 +407,7 @@ def _iterate(problem, pressure):
         else:
             direction[...] = 0.0
         conjugate = not overlaps
-        entry = 0.0 if conjugate else problem.entry(step)
+        entry = 0.0 if conjugate else problem.entry(step * gain)
         if overlaps:   # cells anywhere may re-enter
             span = slice(None)
         for halving in range(40):
@@ -393,6 +431,32 @@ def _iterate(problem, pressure):
         pressure, fresh = fresh, pressure
         stalled = _stalls(stalled, step, conjugate)
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
+
+
+def _precondition(problem, gap, contact, box, count, load_control, masked):
+    """The preconditioned gap on ``box``, the mean it loses on the contact set and its product with the gap.
+
+    Returns ``(field, mean, product)``: the direction's new part is ``field - mean``
+    on the contact set (0 elsewhere); ``field`` is the preconditioner's buffer.
+    ``(None, 0, 0)`` when rounding leaves no positive product: the step then
+    follows the gap, unpreconditioned, as the reference does.
+    """
+    cells = contact[box]
+    shape = cells.shape
+    buffer = masked.get(shape)
+    if buffer is None:
+        buffer = masked[shape] = np.empty(shape)
+    np.multiply(gap[box], cells, out=buffer)
+    field = problem.precondition(buffer)
+    mean = 0.0
+    if load_control and problem.modes.tilt:
+        field = field - problem.modes.fit(field, cells, box)[0]
+    elif load_control:
+        mean = float(field.sum(where=cells)) / count
+    product = _dot(field, buffer) - mean * float(buffer.sum())
+    if not product > 0.0:
+        return None, 0.0, 0.0
+    return field, mean, product
 
 
 def _iterate_reference(problem, pressure):
@@ -424,18 +488,33 @@ def _iterate_reference(problem, pressure):
         np.copyto(direction, 0.0, where=~contact)
         gap_c = np.where(contact, gap, 0.0)
         norm = _dot(gap_c, gap_c)
-        step, curvature = 0.0, 0.0
+        step, curvature, gain = 0.0, 0.0, 1.0
         # A gap flat to rounding over the contact set has no direction to follow (a set with no free
         # direction: one cell, the symmetric apex cells of an even grid, three cells under a tilt):
         # the rounding noise would give an arbitrary step. Only the re-entry below can move it.
         if norm > (1e-12 * np.abs(displacement).max()) ** 2 * np.count_nonzero(contact):
+            box = (slice(None), slice(None)) if problem.window is None else problem.window(contact)
+            # Preconditioned: the approximate inverse of the gap on the box, on the contact set, projected
+            # as the gap is (no mean, or no plane, over the contact set: the load and moments stay)
+            preconditioned = gap_c
+            if problem.precondition is not None:
+                preconditioned = np.zeros_like(gap_c)
+                preconditioned[box] = problem.precondition(gap_c[box])
+                preconditioned[~contact] = 0.0
+                if load_control:
+                    preconditioned -= modes.fit(preconditioned, contact)[0]
+                    preconditioned[~contact] = 0.0
+                product = _dot(gap_c, preconditioned)
+                if product > 0.0:  # else rounding only (the preconditioner is positive definite): plain
+                    norm, gain = product, product / norm
+                else:
+                    preconditioned = gap_c
             direction *= norm / norm_old if conjugate else 0.0
-            direction += gap_c
+            direction += preconditioned
             norm_old = norm
             if problem.window is None:
-                box, response = (slice(None), slice(None)), apply(direction)
+                response = apply(direction)
             else:
-                box = problem.window(contact)
                 response = problem.apply_window(direction[box], box)
             if load_control:
                 response -= modes.fit(response, contact[box], box)[0]
@@ -449,7 +528,7 @@ def _iterate_reference(problem, pressure):
         # would close it in a cell alone (its own compliance), which is the step when there is none.
         overlap = ~contact & (gap < 0)
         conjugate = not overlap.any()
-        entry = 0.0 if conjugate else problem.entry(step)
+        entry = 0.0 if conjugate else problem.entry(step * gain)
         previous = pressure
         # Under load control the step must leave a pressure that can carry the load (and, with a
         # tilt, both moments: not every clipped step can): halve it until it does.

@@ -4,7 +4,7 @@ import pytest
 
 import framework as fw
 from framework import fft
-from framework.operators import SubsurfaceStress, SurfaceCompliance
+from framework.operators import SubsurfaceStress, SurfaceCompliance, SurfaceStiffness
 from framework.operators.kernels import subsurface_stress, surface_displacement
 
 RNG = np.random.default_rng(0)
@@ -224,3 +224,24 @@ def test_scaled_product_and_its_uncopied_buffer(periodic):
     assert np.shares_memory(buffer, again) and np.abs(buffer - 2 * plain).max() <= 1e-12 * np.abs(plain).max()
     box = operator.window(np.ones(grid.shape, bool))
     assert np.array_equal(operator.apply_window(pressure, box, 7.0), operator.apply(pressure, 7.0))
+
+
+def test_surface_stiffness_inverts_the_periodic_compliance():
+    """The preconditioner's operator is the Fourier inverse of the half-space's: on a doubly periodic
+    grid (kernel 2/|q|, Stanley & Kato) it undoes the displacement of any zero-mean pressure, a cosine
+    of wavenumber q gets q/2 (per unit compliance), and a uniform field the longest wave's stiffness."""
+    grid = fw.Grid(shape=(48, 40), size=(2e-3, 1e-3), periodic=(True, True))
+    rng = np.random.default_rng(5)
+    pressure = rng.standard_normal(grid.shape)
+    pressure -= pressure.mean()
+    stiffness = SurfaceStiffness(grid)
+    recovered = stiffness.apply(SurfaceCompliance(grid).apply(pressure))
+    assert np.abs(recovered - pressure).max() <= 1e-12 * np.abs(pressure).max()
+    X1, X2 = grid.coordinates()
+    q = np.hypot(2 * np.pi * 3 / 2e-3, 2 * np.pi * 2 / 1e-3)
+    wave = np.cos(2 * np.pi * (3 * X1 / 2e-3 + 2 * X2 / 1e-3))
+    assert np.allclose(stiffness.apply(wave), q / 2 * wave, rtol=0, atol=1e-12 * q)
+    assert np.allclose(stiffness.apply(np.ones(grid.shape)), np.pi / 2e-3, rtol=1e-14)   # (2 pi / L1) / 2
+    # any box of the grid is taken as periodic: a box's own wavenumbers
+    box = stiffness.apply(np.cos(2 * np.pi * X1[:16, :8] / (16 * 2e-3 / 48)))
+    assert np.allclose(box, np.pi / (16 * 2e-3 / 48) * np.cos(2 * np.pi * X1[:16, :8] / (16 * 2e-3 / 48)), atol=1e-9)

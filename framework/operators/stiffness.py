@@ -1,0 +1,61 @@
+"""Surface stiffness of the half-space: the Fourier inverse of the compliance, to precondition the contact solver.
+
+The normal surface displacement of a half-space under a pressure is, mode by
+mode, ``u(q) = C* (2/|q|) p(q)`` (:class:`SurfaceCompliance`'s continuous
+kernel); its inverse, the pressure that makes a displacement, multiplies by
+``|q|/2`` per unit compliance. Restricted to the contact set, this inverse is
+an approximate inverse of the contact set's influence matrix, whose condition
+number grows with the cells across the contact (the displacement operator
+smooths like ``1/|q|``): conjugate gradients preconditioned by it need far
+fewer iterations, and a number that grows more slowly under refinement (the
+idea of Vollebregt, J. Comput. Phys. 257 (2014) 333-351, in its simplest
+form: no deflation, no treatment of the contact's edge).
+
+Applied on a box holding the contact set as if the box were periodic: any
+positive definite operator preconditions conjugate gradients correctly; this
+one costs an FFT pair of the box, unpadded (a DC-FFT product costs a pair of
+twice the grid along each open axis).
+"""
+import numpy as np
+
+from .. import fft
+
+
+class SurfaceStiffness:
+    """``|q|/2`` applied to fields on boxes of a grid (per unit contact compliance; any factor is immaterial).
+
+    The mean mode, where ``|q|`` vanishes, gets the stiffness of the longest
+    wave the box holds, so that the operator is positive definite.
+
+    Parameters
+    ----------
+    grid : framework.Grid
+        The surface grid; its spacing sets the wavenumbers.
+    """
+
+    def __init__(self, grid):
+        self.spacing = grid.spacing
+        self._boxes = {}    # box shape -> (FFT pair, multiplier times the pair's normalisation)
+
+    def _plan(self, shape):
+        plan = self._boxes.get(shape)
+        if plan is None or (plan[0].backend, plan[0].threads) != (fft.get_backend(), fft.THREADS):
+            pair = fft.RealFFTPair(shape)
+            q1 = 2 * np.pi * np.fft.fftfreq(shape[0], self.spacing[0])
+            q2 = 2 * np.pi * np.fft.rfftfreq(shape[1], self.spacing[1])
+            q = np.hypot(*np.meshgrid(q1, q2, indexing="ij"))
+            longest = [2 * np.pi / (n * d) for n, d in zip(shape, self.spacing) if n > 1]
+            q[0, 0] = min(longest) if longest else 1.0 / max(self.spacing)
+            plan = self._boxes[shape] = (pair, 0.5 * q * pair.normalisation)
+        return plan
+
+    def apply(self, field, copy=True):
+        """``|q|/2`` times ``field`` (any 2-D shape, taken as periodic) [per m]; ``copy=False`` returns the
+        operator's own buffer, overwritten by the next call on a box of that shape."""
+        field = np.asarray(field, dtype=float)
+        pair, multiplier = self._plan(field.shape)
+        pair.real_in[...] = field
+        pair.forward()
+        np.multiply(pair.spectrum, multiplier, out=pair.spectrum)
+        pair.inverse()
+        return pair.real_out.copy() if copy else pair.real_out
