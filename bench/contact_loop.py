@@ -6,13 +6,16 @@ This project alone. Prints the machine, then
    windowed product on a box around the contact; doubly periodic) a Hertz
    solve (contact radius 0.15 of the side, tolerance ``--tolerance``): the time
    per iteration (best of ``--repeat`` solves, FFT plans warm), the time of the
-   FFT pairs it ran (every product of the solve recorded with its FFT shape,
-   each shape's forward + inverse pair then timed alone, in this run) per
-   iteration, and their ratio; for the fused loop with the passes in use
-   (compiled by numba when installed) and, for comparison, with the numpy
-   passes and with the plain reference loop (``solver._iterate_reference``);
-   each repeat times the solve and then its FFT pairs, the best of each kept;
-2. the mean Polonsky-Keer iterations per viscoelastic step after the first,
+   FFT pairs it ran (every product and every preconditioning of the solve
+   recorded with its FFT shape, each shape's forward + inverse pair then timed
+   alone, in this run) per iteration, and their ratio; for the fused loop with
+   the passes in use (compiled by numba when installed), preconditioned by
+   the surface stiffness as :class:`framework.Simulation` runs it, and, for
+   comparison, the same loop unpreconditioned (``plain``), with the numpy
+   passes and the reference loop as numpy expressions
+   (``solver._iterate_reference``); each repeat times the solve and then its
+   FFT pairs, the best of each kept;
+2. the mean contact iterations per viscoelastic step after the first,
    with the predicted warm start and with the previous pressure as the warm
    start: a ball creeping into the standard-linear-like solid of
    ``visco_indentation.py`` (its 256^2 case, 50 log-spaced output times) and a
@@ -35,7 +38,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import framework as fw  # noqa: E402
 from framework import _fused, fft, indenters, loads, materials, reference, schedules, simulation, solver  # noqa: E402
-from framework.operators import SurfaceCompliance  # noqa: E402
+from framework.operators import SurfaceCompliance, SurfaceStiffness  # noqa: E402
 from elastic_hertz import POISSON, RADIUS, SIDE, YOUNG, machine  # noqa: E402
 import visco_indentation  # noqa: E402
 
@@ -56,7 +59,8 @@ def pair_time(shape, repeat=5, number=10):
 
 @contextlib.contextmanager
 def loop(kind):
-    """``fused`` (the passes in use), ``numpy`` (fused loop, numpy passes) or ``reference`` (the plain loop)."""
+    """``fused`` (the passes in use), ``numpy`` (fused loop, numpy passes), ``reference`` (the loop as plain
+    numpy expressions), all preconditioned; ``plain``: the fused loop without the preconditioner."""
     with contextlib.ExitStack() as stack:
         if kind == "numpy":
             stack.enter_context(_fused.use_compiled(False))
@@ -75,6 +79,7 @@ def hertz(n, periodic, tolerance, repeat, kind):
     modulus = YOUNG / (1 - POISSON**2)
     exact = reference.HertzSphere.from_contact_radius(RADIUS, 0.15 * SIDE, modulus)
     compliance = 1 / modulus
+    stiffness = SurfaceStiffness(grid)
     shapes = []
 
     def apply(p):
@@ -87,10 +92,14 @@ def hertz(n, periodic, tolerance, repeat, kind):
         shapes.append(operator._convolution.fft_shape if whole else operator._windows[np.shape(field)].fft_shape)
         return out
 
+    def precondition(field):
+        shapes.append(np.shape(field))
+        return stiffness.apply(field, copy=False)
+
     def solve():
         return solver.solve_normal(apply, heights, cell_area=grid.cell_area, load=exact.load,
-                                   options=fw.SolverOptions(tolerance=tolerance), window=operator.window,
-                                   apply_window=apply_window)
+                                   options=fw.SolverOptions(tolerance=tolerance, preconditioned=kind != "plain"),
+                                   window=operator.window, apply_window=apply_window, precondition=precondition)
 
     # On a busy machine the speed changes from one second to the next: each repeat times the solve and
     # then its FFT pairs alone, and the best of each is kept.
@@ -139,8 +148,8 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--tolerance", type=float, default=1e-10)
     parser.add_argument("--visco", type=int, default=256, help="grid of the creeping-ball case (0: skip part 2)")
-    parser.add_argument("--loops", nargs="+", default=["fused", "numpy", "reference"],
-                        choices=["fused", "numpy", "reference"])
+    parser.add_argument("--loops", nargs="+", default=["fused", "plain", "numpy", "reference"],
+                        choices=["fused", "plain", "numpy", "reference"])
     args = parser.parse_args()
     print(machine())
     compiled = _fused.numba_available()

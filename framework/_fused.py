@@ -3,8 +3,9 @@
 An iteration of :func:`framework.solver.solve_normal` is two FFT products and
 a dozen elementwise operations on grid fields; as numpy expressions each is
 a pass through memory (and often a temporary), which on a doubly periodic grid
-cost more than the FFTs. Here they are grouped into six passes, each one loop
-over the grid that does all its work per cell and returns its sums:
+cost more than the FFTs. Here they are grouped into six passes (and three
+for a preconditioned solve), each one loop over the grid, or a box of it, that
+does all its work per cell and returns its sums:
 
 =============  ===============================================================
 ``gap``        ``gap = base + u``, ``contact = p > 0``; the gap summed over the
@@ -12,8 +13,12 @@ over the grid that does all its work per cell and returns its sums:
 ``centre``     ``gap -= shift``; ``sum gap^2`` over the contact, whether a free
                cell interpenetrates
 ``direction``  ``d = beta d + gap`` on the contact, 0 elsewhere; ``sum d gap``
-``direction_box`` the same with ``d = beta d + z - mean``, ``z`` the
-               preconditioned gap on a box of the grid (preconditioned solves)
+``mask``       the gap on the contact, 0 elsewhere, on a box of the grid
+               (the preconditioner's input)
+``preconditioned`` ``sum z`` over the contact, ``sum z b`` and ``sum b`` for the
+               preconditioned gap ``z`` of the masked gap ``b``, on the box
+``direction_box`` ``d = beta d + z - mean`` on the contact, 0 elsewhere;
+               ``sum d gap``
 ``curvature``  ``sum r d``, ``sum r`` over the contact and ``sum d``, with the
                response ``r`` on a box of the grid
 ``advance``    ``p' = max(p - step d, 0)`` on the contact, ``-entry gap`` on
@@ -102,7 +107,8 @@ def passes(cells=None):
     return _cache["compiled"]
 
 
-_NAMES = ("gap", "centre", "direction", "direction_box", "curvature", "advance", "rescale")
+_NAMES = ("gap", "centre", "direction", "mask", "preconditioned", "direction_box", "curvature", "advance",
+          "rescale")
 
 
 class _Loops:
@@ -145,6 +151,24 @@ class _Loops:
             direction[k] = value
             numerator += value * gap[k]
         return numerator
+
+    def mask(buffer, gap, contact, top, left):
+        rows, columns = buffer.shape
+        for i in range(rows):
+            b, g, c = buffer[i], gap[top + i, left:left + columns], contact[top + i, left:left + columns]
+            for j in range(columns):
+                b[j] = g[j] if c[j] else 0.0
+
+    def preconditioned(field, buffer, contact, top, left):
+        inside, product, total = 0.0, 0.0, 0.0
+        rows, columns = field.shape
+        for i in range(rows):
+            f, b, c = field[i], buffer[i], contact[top + i, left:left + columns]
+            for j in range(columns):
+                inside += f[j] if c[j] else 0.0
+                product += f[j] * b[j]
+                total += b[j]
+        return inside, product, total
 
     def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left):
         numerator = 0.0
@@ -228,6 +252,16 @@ class NumpyPasses:
         np.add(direction, gap, out=direction)
         np.multiply(direction, contact, out=direction)
         return _dot(direction, gap)
+
+    @staticmethod
+    def mask(buffer, gap, contact, top, left):
+        box = (slice(top, top + buffer.shape[0]), slice(left, left + buffer.shape[1]))
+        np.multiply(gap[box], contact[box], out=buffer)
+
+    @staticmethod
+    def preconditioned(field, buffer, contact, top, left):
+        box = (slice(top, top + field.shape[0]), slice(left, left + field.shape[1]))
+        return float(field.sum(where=contact[box])), _dot(field, buffer), float(buffer.sum())
 
     @staticmethod
     def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left):

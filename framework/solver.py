@@ -376,8 +376,8 @@ def _iterate(problem, pressure):
             box = whole if problem.window is None else problem.window(contact)
             preconditioned = None
             if problem.precondition is not None:
-                preconditioned, mean, product = _precondition(problem, gap, contact, box, count, load_control,
-                                                              masked)
+                preconditioned, mean, product = _precondition(problem, passes, gap, contact, box, count,
+                                                              load_control, masked)
             if preconditioned is not None:
                 gain = product / norm
                 top, left = (0 if s.start is None else s.start for s in box)
@@ -433,7 +433,7 @@ def _iterate(problem, pressure):
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
 
 
-def _precondition(problem, gap, contact, box, count, load_control, masked):
+def _precondition(problem, passes, gap, contact, box, count, load_control, masked):
     """The preconditioned gap on ``box``, the mean it loses on the contact set and its product with the gap.
 
     Returns ``(field, mean, product)``: the direction's new part is ``field - mean``
@@ -441,19 +441,18 @@ def _precondition(problem, gap, contact, box, count, load_control, masked):
     ``(None, 0, 0)`` when rounding leaves no positive product: the step then
     follows the gap, unpreconditioned, as the reference does.
     """
-    cells = contact[box]
-    shape = cells.shape
+    top, left = (0 if s.start is None else s.start for s in box)
+    shape = (box[0].stop - top, box[1].stop - left) if box[0].stop is not None else gap.shape
     buffer = masked.get(shape)
     if buffer is None:
         buffer = masked[shape] = np.empty(shape)
-    np.multiply(gap[box], cells, out=buffer)
+    passes.mask(buffer, gap, contact, top, left)
     field = problem.precondition(buffer)
-    mean = 0.0
     if load_control and problem.modes.tilt:
-        field = field - problem.modes.fit(field, cells, box)[0]
-    elif load_control:
-        mean = float(field.sum(where=cells)) / count
-    product = _dot(field, buffer) - mean * float(buffer.sum())
+        field = field - problem.modes.fit(field, contact[box], box)[0]
+    inside, product, total = passes.preconditioned(field, buffer, contact, top, left)
+    mean = inside / count if load_control and not problem.modes.tilt else 0.0
+    product -= mean * total
     if not product > 0.0:
         return None, 0.0, 0.0
     return field, mean, product

@@ -176,9 +176,13 @@ def test_compiled_passes_equal_numpy_passes():
             box_contact = contact & np.pad(np.ones((21, 9), bool), ((6, 10), (8, 6)))  # the box: rows 6-26, columns 8-16
             sums.append(passes.direction_box(boxed, fields["base"][6:27, 8:17] - 0.4, gap,
                                              box_contact, 0.3, 0.1, 3, 31, 6, 8))
+            masked = np.empty((21, 9))
+            passes.mask(masked, gap, contact, 6, 8)
+            sums.append(passes.preconditioned(fields["displacement"][6:27, 8:17], masked, contact, 6, 8))
             sums.append(passes.advance(flat[3], pressure.reshape(-1), flat[2], flat[0], flat[1], 0.2, 0.5))
             sums.append(passes.rescale(flat[3], pressure.reshape(-1), 1.3))
-            results[compiled] = (np.concatenate([np.ravel(s) for s in sums]), gap, contact, direction, fresh, boxed)
+            results[compiled] = (np.concatenate([np.ravel(s) for s in sums]), gap, contact, direction, fresh, masked,
+                                 boxed)
     numpy_sums, compiled_sums = results[False][0], results[True][0]
     numpy_sums[2] = compiled_sums[2] = 0.0  # the numpy pass returns max u^2, the compiled one the bound sum u^2
     assert np.allclose(compiled_sums, numpy_sums, rtol=1e-12, atol=0)
@@ -191,6 +195,7 @@ def test_compiled_passes_equal_numpy_passes():
     rest = [np.delete(a, np.s_[3:31], axis=0) for a in (results[True][-1], results[True][3])]
     assert np.array_equal(*rest)      # the rows not walked, as they were
     assert results[False][2].any() and not results[False][2].all() and (results[False][4] > 0).any()
+    assert np.array_equal(results[False][5], np.where(contact[6:27, 8:17], gap[6:27, 8:17], 0.0))
 
 
 def test_nan_separation_is_refused():
