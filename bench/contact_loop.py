@@ -79,7 +79,6 @@ def hertz(n, periodic, tolerance, repeat, kind):
     modulus = YOUNG / (1 - POISSON**2)
     exact = reference.HertzSphere.from_contact_radius(RADIUS, 0.15 * SIDE, modulus)
     compliance = 1 / modulus
-    stiffness = SurfaceStiffness(grid)
     shapes = []
 
     def apply(p):
@@ -92,9 +91,11 @@ def hertz(n, periodic, tolerance, repeat, kind):
         shapes.append(operator._convolution.fft_shape if whole else operator._windows[np.shape(field)].fft_shape)
         return out
 
-    def precondition(field):
-        shapes.append(np.shape(field))
-        return stiffness.apply(field, copy=False)
+    class Recorded(SurfaceStiffness):   # the preconditioner, recording the shape of each FFT pair it runs
+        def apply(self, field, copy=True):
+            shapes.append(np.shape(field))
+            return super().apply(field, copy)
+    precondition = Recorded(grid)
 
     def solve():
         return solver.solve_normal(apply, heights, cell_area=grid.cell_area, load=exact.load,

@@ -335,7 +335,7 @@ class Simulation:
                                                                 raise_on_failure=False),
                                window=operator.window,
                                apply_window=lambda f, box: operator.apply_window(f, box, compliance, copy=False),
-                               precondition=SurfaceStiffness(grid).apply).pressure > 0
+                               precondition=SurfaceStiffness(grid)).pressure > 0
         along = (grid.x1, grid.x2)[axis]
         touched = along[contact.any(axis=1 - axis)]
         sign = np.sign(schedule.velocity[axis])
@@ -387,9 +387,6 @@ class Simulation:
         self._predictor = predictor = _Predictor()
         if state is not None:
             predictor.restore(state)
-        def precondition(field):
-            return stiffness.apply(field, copy=False)
-
         for number, station in enumerate(self._timeline):
             if number < start:
                 continue
@@ -403,14 +400,15 @@ class Simulation:
                              window=operator.window,
                              apply_window=lambda field, box: operator.apply_window(field, box, compliance, copy=False))
             if steady:
-                solution = solve_steady(operator.apply, heights, load=station.value, symmetric=symmetric, **arguments)
+                solution = solve_steady(operator.apply, heights, load=station.value, symmetric=symmetric,
+                                        precondition=stiffness, **arguments)
             else:
                 def solve(extra=0.0):
                     return solve_normal(
                         lambda p: operator.apply(p, compliance, copy=False), heights + history_displacement + extra,
                         load=station.value if load_control else None,
                         approach=None if load_control else station.value, offset=offset, coordinates=coordinates,
-                        diagonal=compliance * operator.diagonal, precondition=precondition, **arguments)
+                        diagonal=compliance * operator.diagonal, precondition=stiffness, **arguments)
                 if coupling is None:
                     solution = solve()
                 else:

@@ -186,17 +186,15 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         Displacement [m/Pa] of a cell under its own unit pressure (the
         operator's diagonal), which scales the re-entry of cells; computed
         with one product when not given.
-    precondition : callable, optional
-        ``precondition(field)`` returns an approximate inverse of the
-        operator applied to ``field`` (any shape: the gap on the box of
-        ``window``, or on the grid, as if periodic), e.g.
-        :meth:`SurfaceStiffness.apply <framework.operators.stiffness.SurfaceStiffness.apply>`;
-        it may return a buffer of its own. The conjugate gradients are then
-        preconditioned by it, restricted to the contact set (and projected as
-        the gap is): 2-3 times fewer iterations, each with one more FFT pair
-        (of the box). Only its direction counts, not its scale. Without it,
-        or with ``options.preconditioned`` False: the plain iteration of
-        Polonsky & Keer.
+    precondition : SurfaceStiffness, optional
+        An approximate inverse of the operator,
+        :class:`framework.operators.SurfaceStiffness` (or an object with its
+        ``window``, ``input`` and ``apply``): the conjugate gradients are then
+        preconditioned by it on a box around the contact set, restricted to
+        the set and projected as the gap is: 2-4 times fewer iterations, each
+        with one more FFT pair (of the box). Only its direction counts, not
+        its scale. Without it, or with ``options.preconditioned`` False: the
+        plain iteration of Polonsky & Keer.
 
     Returns
     -------
@@ -336,7 +334,6 @@ def _iterate(problem, pressure):
     pressure = np.ascontiguousarray(pressure)
     fresh, direction, gap = np.empty_like(pressure), np.zeros_like(pressure), np.empty_like(pressure)
     contact = np.empty(pressure.shape, dtype=bool)
-    masked = {}   # box shape -> buffer of the gap on the contact set, for the preconditioner
     # the passes walk flat views of the grid fields (see framework._fused)
     flat_base, flat_gap, flat_contact, flat_direction = (a.reshape(-1) for a in (base, gap, contact, direction))
     whole = (slice(None), slice(None))
@@ -376,11 +373,12 @@ def _iterate(problem, pressure):
             box = whole if problem.window is None else problem.window(contact)
             preconditioned = None
             if problem.precondition is not None:
-                preconditioned, mean, product = _precondition(problem, passes, gap, contact, box, count,
-                                                              load_control, masked)
+                around = problem.precondition.window(contact)
+                preconditioned, mean, product = _precondition(problem, passes, gap, contact, around, count,
+                                                              load_control)
             if preconditioned is not None:
                 gain = product / norm
-                top, left = (0 if s.start is None else s.start for s in box)
+                top, left = (0 if s.start is None else s.start for s in around)
                 numerator = passes.direction_box(direction, preconditioned, gap, contact,
                                                  product / norm_old if conjugate else 0.0, mean,
                                                  first_row, last_row, top, left)
@@ -433,8 +431,9 @@ def _iterate(problem, pressure):
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
 
 
-def _precondition(problem, passes, gap, contact, box, count, load_control, masked):
-    """The preconditioned gap on ``box``, the mean it loses on the contact set and its product with the gap.
+def _precondition(problem, passes, gap, contact, box, count, load_control):
+    """The preconditioned gap on ``box`` (the preconditioner's), the mean it loses on the contact set and its
+    product with the gap.
 
     Returns ``(field, mean, product)``: the direction's new part is ``field - mean``
     on the contact set (0 elsewhere); ``field`` is the preconditioner's buffer.
@@ -443,11 +442,9 @@ def _precondition(problem, passes, gap, contact, box, count, load_control, maske
     """
     top, left = (0 if s.start is None else s.start for s in box)
     shape = (box[0].stop - top, box[1].stop - left) if box[0].stop is not None else gap.shape
-    buffer = masked.get(shape)
-    if buffer is None:
-        buffer = masked[shape] = np.empty(shape)
+    buffer = problem.precondition.input(shape)   # the masked gap goes straight into the operator's input
     passes.mask(buffer, gap, contact, top, left)
-    field = problem.precondition(buffer)
+    field = problem.precondition.apply(buffer, copy=False)
     if load_control and problem.modes.tilt:
         field = field - problem.modes.fit(field, contact[box], box)[0]
     inside, product, total = passes.preconditioned(field, buffer, contact, top, left)
@@ -498,7 +495,8 @@ def _iterate_reference(problem, pressure):
             preconditioned = gap_c
             if problem.precondition is not None:
                 preconditioned = np.zeros_like(gap_c)
-                preconditioned[box] = problem.precondition(gap_c[box])
+                around = problem.precondition.window(contact)
+                preconditioned[around] = problem.precondition.apply(gap_c[around])
                 preconditioned[~contact] = 0.0
                 if load_control:
                     preconditioned -= modes.fit(preconditioned, contact)[0]

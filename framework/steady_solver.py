@@ -30,7 +30,7 @@ from .solver import ContactSolution, SolverOptions, _residual, solve_normal
 
 
 def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=SolverOptions(), window=None,
-                 apply_window=None, symmetric=None):
+                 apply_window=None, symmetric=None, precondition=None):
     """Solve the frictionless normal contact under load control with a non-symmetric operator.
 
     Parameters
@@ -57,6 +57,9 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
         The symmetric part ``(A + A^T)/2`` as an operator with ``apply``,
         ``window`` and ``apply_window``, for the start; else it is applied as
         two products with ``A``.
+    precondition : SurfaceStiffness, optional
+        As for :func:`framework.solver.solve_normal`, for the start's
+        conjugate gradients on the symmetric part.
 
     Returns
     -------
@@ -80,7 +83,9 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
             windows = dict(window=symmetric.window, apply_window=symmetric.apply_window, diagonal=symmetric.diagonal)
         initial = solve_normal(apply_symmetric, base_gap, cell_area=cell_area, load=load,
                                options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4, max_iterations=500,
-                                                     raise_on_failure=False), **windows).pressure
+                                                     raise_on_failure=False,
+                                                     preconditioned=options.preconditioned),
+                               precondition=precondition, **windows).pressure
     contact = initial > 0
     whole = (slice(None), slice(None))
     products = [0]

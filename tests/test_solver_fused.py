@@ -54,7 +54,7 @@ def solve(grid, heights, reference, preconditioned=False, **control):
         return fw.solve_normal(lambda p: operator.apply(p, COMPLIANCE, copy=False), heights,
                                cell_area=grid.cell_area, options=TIGHT, window=operator.window,
                                apply_window=lambda f, box: operator.apply_window(f, box, COMPLIANCE, copy=False),
-                               precondition=(lambda f: stiffness.apply(f, copy=False)) if preconditioned else None,
+                               precondition=stiffness if preconditioned else None,
                                **control)
 
 

@@ -11,14 +11,16 @@ fewer iterations, and a number that grows more slowly under refinement (the
 idea of Vollebregt, J. Comput. Phys. 257 (2014) 333-351, in its simplest
 form: no deflation, no treatment of the contact's edge).
 
-Applied on a box holding the contact set as if the box were periodic: any
-positive definite operator preconditions conjugate gradients correctly; this
-one costs an FFT pair of the box, unpadded (a DC-FFT product costs a pair of
-twice the grid along each open axis).
+Applied on a box holding the contact set (:meth:`SurfaceStiffness.window`)
+as if the box were periodic: any positive definite operator preconditions
+conjugate gradients correctly; this one costs an FFT pair of the box,
+unpadded (a DC-FFT product costs a pair of twice the grid along each open
+axis), also on a periodic grid, where the products need the whole grid.
 """
 import numpy as np
 
 from .. import fft
+from .surface import box_around
 
 
 class SurfaceStiffness:
@@ -38,6 +40,7 @@ class SurfaceStiffness:
         self._boxes = {}    # box shape -> (FFT pair, multiplier times the pair's normalisation)
 
     def _plan(self, shape):
+        shape = tuple(shape)
         plan = self._boxes.get(shape)
         if plan is None or (plan[0].backend, plan[0].threads) != (fft.get_backend(), fft.THREADS):
             pair = fft.RealFFTPair(shape)
@@ -49,12 +52,22 @@ class SurfaceStiffness:
             plan = self._boxes[shape] = (pair, 0.5 * q * pair.normalisation)
         return plan
 
+    def window(self, support):
+        """Slices of a box holding ``support`` (boolean, the grid's shape) to apply the operator on
+        (:func:`framework.operators.surface.box_around`: sides multiples of 32, planned boxes reused)."""
+        return box_around(support, self._boxes)
+
+    def input(self, shape):
+        """The operator's input buffer for fields of ``shape``: a field written there is not copied by
+        :meth:`apply`, nor changed by it."""
+        return self._plan(tuple(shape))[0].real_in
+
     def apply(self, field, copy=True):
         """``|q|/2`` times ``field`` (any 2-D shape, taken as periodic) [per m]; ``copy=False`` returns the
         operator's own buffer, overwritten by the next call on a box of that shape."""
-        field = np.asarray(field, dtype=float)
-        pair, multiplier = self._plan(field.shape)
-        pair.real_in[...] = field
+        pair, multiplier = self._plan(np.shape(field))
+        if field is not pair.real_in:
+            pair.real_in[...] = field
         pair.forward()
         np.multiply(pair.spectrum, multiplier, out=pair.spectrum)
         pair.inverse()

@@ -106,24 +106,9 @@ class SurfaceCompliance:
         holds the support is reused, so that a whole run needs few FFT plans;
         a box nearly as large as the grid, or a periodic grid, gets the whole grid.
         """
-        whole = (slice(None), slice(None))
-        if any(self.grid.periodic) or not support.any():
-            return whole
-        ranges = [np.flatnonzero(support.any(axis=1 - axis))[[0, -1]] for axis in (0, 1)]
-        need = [int(last - first + 1) for first, last in ranges]
-        shape = tuple(min(n, -(-e // 32) * 32) for e, n in zip(need, self.grid.shape))
-        planned = [s for s in self._windows if s[0] >= need[0] and s[1] >= need[1]]
-        if planned:
-            best = min(planned, key=lambda s: s[0] * s[1])
-            if best[0] * best[1] <= 1.5 * shape[0] * shape[1]:
-                shape = best
-        if shape[0] * shape[1] > 0.6 * self.grid.shape[0] * self.grid.shape[1]:
-            return whole
-        slices = []
-        for (first, last), size, n in zip(ranges, shape, self.grid.shape):
-            start = min(max(0, int(first) - (size - int(last - first + 1)) // 2), n - size)
-            slices.append(slice(start, start + size))
-        return tuple(slices)
+        if any(self.grid.periodic):
+            return (slice(None), slice(None))
+        return box_around(support, self._windows)
 
     def apply_window(self, field, window, scale=1.0, copy=True):
         """``K * field`` on the box ``window`` for a field that vanishes outside it, times ``scale``.
@@ -145,6 +130,35 @@ class SurfaceCompliance:
             kernel[:, m2] = 0.0
             convolution = self._windows[shape] = Convolution(fft.rfft2(kernel), shape, (False, False))
         return convolution.apply(field, scale, copy)
+
+
+def box_around(support, planned=()):
+    """Slices of a box of the grid holding ``support`` (boolean ``(n1, n2)``), or of the whole grid.
+
+    Box sides are multiples of 32 cells, and a box of ``planned`` (shapes
+    already planned) that holds the support is reused if it is at most 1.5
+    times larger, so that a run needs few FFT plans; a box of more than 0.6 of
+    the grid, or an empty support, gets the whole grid. The box does not wrap
+    round a periodic axis: a support across its edge gets the whole axis.
+    """
+    whole = (slice(None), slice(None))
+    if not support.any():
+        return whole
+    ranges = [np.flatnonzero(support.any(axis=1 - axis))[[0, -1]] for axis in (0, 1)]
+    need = [int(last - first + 1) for first, last in ranges]
+    shape = tuple(min(n, -(-e // 32) * 32) for e, n in zip(need, support.shape))
+    fitting = [s for s in planned if s[0] >= need[0] and s[1] >= need[1]]
+    if fitting:
+        best = min(fitting, key=lambda s: s[0] * s[1])
+        if best[0] * best[1] <= 1.5 * shape[0] * shape[1]:
+            shape = best
+    if shape[0] * shape[1] > 0.6 * support.size:
+        return whole
+    slices = []
+    for (first, last), size, n in zip(ranges, shape, support.shape):
+        start = min(max(0, int(first) - (size - int(last - first + 1)) // 2), n - size)
+        slices.append(slice(start, start + size))
+    return tuple(slices)
 
 
 def _integral_log(x, h, length):
