@@ -373,7 +373,8 @@ def _iterate(problem, pressure):
             box = whole if problem.window is None else problem.window(contact)
             preconditioned = None
             if problem.precondition is not None:
-                around = problem.precondition.window(contact)
+                # the products' box where they have one (an open grid), else a box of the preconditioner's
+                around = box if box != whole else problem.precondition.window(contact)
                 preconditioned, mean, product = _precondition(problem, passes, gap, contact, around, count,
                                                               load_control)
             if preconditioned is not None:
@@ -495,7 +496,7 @@ def _iterate_reference(problem, pressure):
             preconditioned = gap_c
             if problem.precondition is not None:
                 preconditioned = np.zeros_like(gap_c)
-                around = problem.precondition.window(contact)
+                around = box if box != (slice(None), slice(None)) else problem.precondition.window(contact)
                 preconditioned[around] = problem.precondition.apply(gap_c[around])
                 preconditioned[~contact] = 0.0
                 if load_control:

@@ -245,3 +245,19 @@ def test_surface_stiffness_inverts_the_periodic_compliance():
     # any box of the grid is taken as periodic: a box's own wavenumbers
     box = stiffness.apply(np.cos(2 * np.pi * X1[:16, :8] / (16 * 2e-3 / 48)))
     assert np.allclose(box, np.pi / (16 * 2e-3 / 48) * np.cos(2 * np.pi * X1[:16, :8] / (16 * 2e-3 / 48)), atol=1e-9)
+
+
+def test_surface_stiffness_keeps_the_plans_of_its_last_boxes_only():
+    """A contact shrinking from the whole grid must not keep the whole grid's FFT buffers for the run."""
+    grid = fw.Grid(shape=(64, 64), size=(1e-3, 1e-3), periodic=(True, True))
+    stiffness = SurfaceStiffness(grid)
+    field = np.random.default_rng(2).random(grid.shape)
+    whole = stiffness.apply(field)
+    for side in (48, 32, 16):
+        stiffness.apply(field[:side, :side])
+    assert (64, 64) not in stiffness._boxes and len(stiffness._boxes) == SurfaceStiffness.KEPT
+    assert np.array_equal(stiffness.apply(field), whole)      # planned again, the same numbers
+    buffer = stiffness.input((32, 32))
+    buffer[...] = field[:32, :32]
+    assert np.array_equal(stiffness.apply(buffer), stiffness.apply(field[:32, :32]))   # its own input: no copy
+    assert np.array_equal(buffer, field[:32, :32])                                     # nor any change

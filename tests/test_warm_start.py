@@ -16,13 +16,13 @@ GRID = fw.Grid(shape=(64, 64), size=(1.2e-3, 1.2e-3))
 TIMES = np.concatenate([[0.0], np.geomspace(0.1, 1000.0, 15)])
 
 
-def creep(predicted, tolerance):
+def creep(predicted, tolerance, preconditioned=True):
     with pytest.MonkeyPatch.context() as patch:
         if not predicted:
             patch.setattr(simulation._Predictor, "guess", lambda self, time, fallback: fallback)
         return fw.Simulation(grid=GRID, material=materials.PMMA, indenter=indenters.Sphere(radius=5e-3),
                              schedule=schedules.Static(load=loads.Step(20.0), times=TIMES),
-                             options={"tolerance": tolerance}).run()
+                             options={"tolerance": tolerance, "preconditioned": preconditioned}).run()
 
 
 def test_predicted_start_gives_the_same_creep_in_fewer_iterations():
@@ -36,6 +36,18 @@ def test_predicted_start_gives_the_same_creep_in_fewer_iterations():
     assert np.allclose(predicted.approach, previous.approach, rtol=1e-10, atol=0)
     assert predicted.contact_radius[-1] > 1.02 * predicted.contact_radius[1]       # it did creep
     assert predicted.iterations[1:].mean() <= 0.9 * previous.iterations[1:].mean()
+
+
+def test_preconditioned_steps_give_the_same_creep_in_far_fewer_iterations():
+    """The surface-stiffness preconditioner (the stepper's default) against the plain Polonsky-Keer
+    iteration, both at 1e-10: the same pressures (1e-8 of the peak) and approaches (1e-10); at most
+    12 iterations a step after the first, less than half the plain ones (measured 10.3 against 24.1)."""
+    preconditioned, plain = creep(True, 1e-10), creep(True, 1e-10, preconditioned=False)
+    for step in range(len(TIMES)):
+        peak = plain.pressure(step).max()
+        assert np.abs(preconditioned.pressure(step) - plain.pressure(step)).max() <= 1e-8 * peak
+    assert np.allclose(preconditioned.approach, plain.approach, rtol=1e-10, atol=0)
+    assert preconditioned.iterations[1:].mean() <= min(12, 0.5 * plain.iterations[1:].mean())
 
 
 def test_prediction_is_linear_in_time_clipped_and_restarts_after_a_jump():

@@ -35,14 +35,23 @@ class SurfaceStiffness:
         The surface grid; its spacing sets the wavenumbers.
     """
 
+    #: Box shapes whose FFT plans and buffers are kept, the most recently used: a contact that shrinks from
+    #: the whole grid (a load-controlled start) leaves no plan of the whole grid behind (a 4096^2 one is
+    #: 0.4 GB).
+    KEPT = 3
+
     def __init__(self, grid):
         self.spacing = grid.spacing
-        self._boxes = {}    # box shape -> (FFT pair, multiplier times the pair's normalisation)
+        self._boxes = {}    # box shape -> (FFT pair, multiplier times the pair's normalisation), oldest first
 
     def _plan(self, shape):
         shape = tuple(shape)
-        plan = self._boxes.get(shape)
+        plan = self._boxes.pop(shape, None)
+        if plan is not None:
+            self._boxes[shape] = plan    # now the most recently used
         if plan is None or (plan[0].backend, plan[0].threads) != (fft.get_backend(), fft.THREADS):
+            while len(self._boxes) >= self.KEPT:
+                del self._boxes[next(iter(self._boxes))]
             pair = fft.RealFFTPair(shape)
             q1 = 2 * np.pi * np.fft.fftfreq(shape[0], self.spacing[0])
             q2 = 2 * np.pi * np.fft.rfftfreq(shape[1], self.spacing[1])
