@@ -58,8 +58,10 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
         ``window`` and ``apply_window``, for the start; else it is applied as
         two products with ``A``.
     precondition : SurfaceStiffness, optional
-        As for :func:`framework.solver.solve_normal`, for the start's
-        conjugate gradients on the symmetric part.
+        As for :func:`framework.solver.solve_normal`: for the start's
+        conjugate gradients on the symmetric part, and on the right of the
+        GMRES solves on each contact set (on the products' box), unless
+        ``options.preconditioned`` is False.
 
     Returns
     -------
@@ -105,10 +107,19 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
             out = apply_window(field, box) if apply_window is not None and box != whole else apply(field)[box]
             return out[cells]
 
+        right_precondition = None
+        if precondition is not None and options.preconditioned:
+            def right_precondition(values, cells=cells):
+                field = np.zeros(cells.shape)
+                field[cells] = values
+                return precondition.apply(field, copy=False)[cells]
+
         size = int(cells.sum())
         try:
-            z = _gmres(product, -base_gap[box][cells], inner, (z_field if iteration else initial)[box][cells])
-            y = _gmres(product, np.ones(size), inner, y_field[box][cells] if iteration else None)
+            z = _gmres(product, -base_gap[box][cells], inner, (z_field if iteration else initial)[box][cells],
+                       precondition=right_precondition)
+            y = _gmres(product, np.ones(size), inner, y_field[box][cells] if iteration else None,
+                       precondition=right_precondition)
         except ConvergenceError:
             if options.raise_on_failure:
                 raise
@@ -161,8 +172,12 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
     return solution
 
 
-def _gmres(product, right, tolerance, start, restart=200, cycles=50):
+def _gmres(product, right, tolerance, start, restart=200, cycles=50, precondition=None):
     """Restarted GMRES (Saad & Schultz 1986) to ``tolerance`` relative residual; raises if it does not get there.
+
+    With ``precondition`` (a linear map), preconditioned on the right: the
+    Krylov space is that of ``product(precondition(.))`` and the residual the
+    true one, so the tolerance means the same.
 
     Written out rather than scipy's: the orthogonalisation is two passes of
     classical Gram-Schmidt as sums in numpy's own loops (threaded BLAS stalls
@@ -181,7 +196,7 @@ def _gmres(product, right, tolerance, start, restart=200, cycles=50):
         hessenberg = np.zeros((restart + 1, restart))
         rotations, g = [], [beta] + [0.0] * restart
         for j in range(restart):
-            w = product(basis[j])
+            w = product(basis[j] if precondition is None else precondition(basis[j]))
             column = np.zeros(j + 2)
             for _pass in range(2):
                 h = np.einsum("kn,n->k", basis[: j + 1], w)
@@ -203,7 +218,8 @@ def _gmres(product, right, tolerance, start, restart=200, cycles=50):
                 break
         k = j + 1
         y = np.linalg.solve(np.triu(hessenberg[:k, :k]), np.array(g[:k]))
-        x = x + np.einsum("k,kn->n", y, basis[:k])
+        step = np.einsum("k,kn->n", y, basis[:k])
+        x = x + (step if precondition is None else precondition(step))
     residual = right - product(x)
     achieved = float(np.sqrt(np.einsum("i,i->", residual, residual))) / max(target / tolerance, 1e-300)
     if achieved > 10 * tolerance:

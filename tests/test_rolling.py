@@ -182,6 +182,19 @@ def long_grid(wake, cells_per_radius=8):
     return fw.Grid(shape=(n1, n2), size=(n1 * dx, n2 * dx))
 
 
+def test_preconditioned_steady_solve_is_the_plain_one_in_fewer_products():
+    """The GMRES solves on each contact set preconditioned on the right by the surface stiffness (the
+    stepper's default): the same steady contact (pressures to 1e-8 of the peak, friction to 1e-8; the
+    inner solves go to 1e-11), in fewer operator products (measured 369 against 564 at 12 cells per
+    radius)."""
+    grid = grid_for(A0, 12)
+    runs = {flag: steady(grid, (speed(1.0), 0.0), options=dict(TIGHT, preconditioned=flag)) for flag in (True, False)}
+    fast, plain = runs[True], runs[False]
+    np.testing.assert_allclose(fast.pressure(0), plain.pressure(0), rtol=0, atol=1e-8 * plain.max_pressure[0])
+    assert fast.friction_coefficient[0] == pytest.approx(plain.friction_coefficient[0], rel=1e-8)
+    assert fast.iterations[0] < 0.7 * plain.iterations[0]
+
+
 def test_transient_rolling_reaches_the_steady_state():
     """After 8 wake lengths, within 1 % of the steady solve on the same grid (16 cells per radius).
 
