@@ -224,7 +224,15 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
         # Uniform over the cells that can plausibly touch: those within a few times the displacement
         # of the load spread over the grid (a punch's walls would otherwise dominate the first steps).
         pressure = np.full(base_gap.shape, load / (base_gap.size * cell_area))
-        scale = apply(pressure).max()  # zero on a doubly periodic grid, where the mean carries no displacement
+        scale = apply(pressure).max()
+        if not scale > 0:
+            # a doubly periodic grid, where the mean carries no displacement: that of the same load on an
+            # open square of the grid's area (n cells of a side: n times a cell's own displacement)
+            if diagonal is None:
+                unit = np.zeros_like(base_gap)
+                unit.flat[0] = 1.0
+                diagonal = float(apply(unit).flat[0])
+            scale = pressure.flat[0] * diagonal * np.sqrt(base_gap.size)
         if scale > 0:
             pressure = np.where(base_gap <= touch + 4.0 * scale, pressure, 0.0)
     else:  # the interpenetration, scaled so that its displacement matches it at the peak
