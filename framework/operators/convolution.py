@@ -29,6 +29,12 @@ def wrapped_offsets(n, spacing, periodic):
     return offsets
 
 
+def wavenumbers(shape, spacing):
+    """Angular wavenumbers ``(q1, q2)`` [rad/m] of a real 2-D FFT of ``shape`` (the ``rfft2`` layout), as grids."""
+    return np.meshgrid(2 * np.pi * np.fft.fftfreq(shape[0], spacing[0]),
+                       2 * np.pi * np.fft.rfftfreq(shape[1], spacing[1]), indexing="ij")
+
+
 def padded_shape(shape, periodic):
     """Shape of the FFT grid: doubled along the non-periodic axes."""
     return tuple(n if p else 2 * n for n, p in zip(shape, periodic))

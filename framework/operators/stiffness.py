@@ -20,6 +20,7 @@ axis), also on a periodic grid, where the products need the whole grid.
 import numpy as np
 
 from .. import fft
+from .convolution import wavenumbers
 from .surface import box_around
 
 
@@ -53,9 +54,7 @@ class SurfaceStiffness:
             while len(self._boxes) >= self.KEPT:
                 del self._boxes[next(iter(self._boxes))]
             pair = fft.RealFFTPair(shape)
-            q1 = 2 * np.pi * np.fft.fftfreq(shape[0], self.spacing[0])
-            q2 = 2 * np.pi * np.fft.rfftfreq(shape[1], self.spacing[1])
-            q = np.hypot(*np.meshgrid(q1, q2, indexing="ij"))
+            q = np.hypot(*wavenumbers(shape, self.spacing))
             longest = [2 * np.pi / (n * d) for n, d in zip(shape, self.spacing) if n > 1]
             q[0, 0] = min(longest) if longest else 1.0 / max(self.spacing)
             plan = self._boxes[shape] = (pair, 0.5 * q * pair.normalisation)

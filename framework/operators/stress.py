@@ -3,7 +3,7 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from .convolution import Convolution, wrapped_offsets
+from .convolution import Convolution, wavenumbers, wrapped_offsets
 from .kernels import periodic_subsurface_stress, subsurface_stress
 
 VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
@@ -91,8 +91,7 @@ class SubsurfaceStress:
         return spectrum
 
     def _periodic_modes(self, depth):
-        (n1, n2), (dx1, dx2) = self.grid.shape, self.grid.spacing
-        q1, q2 = np.meshgrid(2 * np.pi * np.fft.fftfreq(n1, dx1), 2 * np.pi * np.fft.rfftfreq(n2, dx2), indexing="ij")
+        q1, q2 = wavenumbers(self.grid.shape, self.grid.spacing)
         k = np.hypot(q1, q2)
         safe = np.where(k > 0, k, 1.0)
         n1c, n2c = q1 / safe, q2 / safe

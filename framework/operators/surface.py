@@ -4,7 +4,7 @@ from scipy.special import iti0k0
 
 from .. import fft
 from ..errors import ParameterError
-from .convolution import Convolution, wrapped_offsets
+from .convolution import Convolution, wavenumbers, wrapped_offsets
 from .kernels import surface_displacement
 
 
@@ -69,10 +69,7 @@ class SurfaceCompliance:
 
     @staticmethod
     def _periodic_spectrum(grid):
-        (n1, n2), (dx1, dx2) = grid.shape, grid.spacing
-        q1 = 2 * np.pi * np.fft.fftfreq(n1, dx1)
-        q2 = 2 * np.pi * np.fft.rfftfreq(n2, dx2)
-        q = np.hypot(*np.meshgrid(q1, q2, indexing="ij"))
+        q = np.hypot(*wavenumbers(grid.shape, grid.spacing))
         with np.errstate(divide="ignore"):
             spectrum = np.where(q > 0, 2.0 / q, 0.0)
         return spectrum
