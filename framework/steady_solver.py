@@ -110,7 +110,8 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
         right_precondition = None
         if precondition is not None and options.preconditioned:
             def right_precondition(values, cells=cells):
-                field = np.zeros(cells.shape)
+                field = precondition.input(cells.shape)    # written in place: the operator copies nothing
+                field[...] = 0.0
                 field[cells] = values
                 return precondition.apply(field, copy=False)[cells]
 
