@@ -329,13 +329,14 @@ class Simulation:
         compliance = float(series(duration))
         load = max(station.value for station in stations)
         self._surface = operator = SurfaceCompliance(grid)     # the stepper's own, reused
+        self._stiffness = SurfaceStiffness(grid)                # its preconditioner, reused too
         contact = solve_normal(lambda p: operator.apply(p, compliance, copy=False), self._heights,
                                cell_area=grid.cell_area,
                                load=load, options=SolverOptions(tolerance=1e-6, residual_tolerance=1e-4,
                                                                 raise_on_failure=False),
                                window=operator.window,
                                apply_window=lambda f, box: operator.apply_window(f, box, compliance, copy=False),
-                               precondition=SurfaceStiffness(grid)).pressure > 0
+                               precondition=self._stiffness).pressure > 0
         along = (grid.x1, grid.x2)[axis]
         touched = along[contact.any(axis=1 - axis)]
         sign = np.sign(schedule.velocity[axis])
@@ -367,7 +368,7 @@ class Simulation:
         else:
             operator = getattr(self, "_surface", None) or SurfaceCompliance(grid)
             integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
-        stiffness = SurfaceStiffness(grid)   # the contact solves' preconditioner
+        stiffness = getattr(self, "_stiffness", None) or SurfaceStiffness(grid)   # the solves' preconditioner
         self._integrator, start, index = integrator, 0, 0
         if state is not None:
             integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")
