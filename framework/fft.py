@@ -147,6 +147,20 @@ def irfft3(spectrum, shape):
     return scipy.fft.irfftn(spectrum, s=shape, axes=(-3, -2, -1), workers=THREADS)
 
 
+def empty_aligned(shape):
+    """An uninitialised float64 array that :meth:`RealFFTPair.forward_from` can transform in place (aligned for
+    pyFFTW's vector instructions; a plain array without pyFFTW)."""
+    if pyfftw is not None:
+        return pyfftw.empty_aligned(shape, dtype="float64")
+    return np.empty(shape)
+
+
+def _readable(array, buffer):
+    """Whether pyFFTW can read ``array`` in place of ``buffer``: the same shape, float64, C-ordered and aligned."""
+    return (array.shape == buffer.shape and array.dtype == buffer.dtype and array.flags.c_contiguous
+            and array.ctypes.data % pyfftw.simd_alignment == 0)
+
+
 class RealFFTPair:
     """Forward and inverse real FFT of one fixed 2-D shape, with buffers of its own.
 
@@ -186,6 +200,28 @@ class RealFFTPair:
             self._forward.execute()
         else:
             self.spectrum[...] = scipy.fft.rfftn(self.real_in, axes=(-2, -1), workers=THREADS)
+
+    def forward_from(self, array):
+        """``spectrum <- rfft2(array)`` for a float array of the pair's shape, read where it lies when it can be.
+
+        pyFFTW reads an array from :func:`empty_aligned` (C-ordered, aligned as
+        the plan's buffers) in place, for the cost of pointing the plan at it
+        and back; any other array is first copied into ``real_in``. ``array``
+        is not changed.
+        """
+        if array is self.real_in:
+            self.forward()
+        elif self.backend == "pyfftw" and _readable(array, self.real_in):
+            self._forward.update_arrays(array, self.spectrum)
+            try:
+                self._forward.execute()
+            finally:
+                self._forward.update_arrays(self.real_in, self.spectrum)
+        elif self.backend == "pyfftw":
+            self.real_in[...] = array
+            self._forward.execute()
+        else:
+            self.spectrum[...] = scipy.fft.rfftn(array, axes=(-2, -1), workers=THREADS)
 
     def inverse(self):
         """``real_out <- irfft2(spectrum) / normalisation`` (``spectrum`` is destroyed)."""

@@ -139,6 +139,30 @@ def test_backends_agree(periodic):
         assert np.abs(a - b).max() <= 1e-12 * np.abs(b).max()
 
 
+@pytest.mark.parametrize("backend", fft.available_backends())
+def test_forward_from_reads_any_array_and_leaves_it_unchanged(backend):
+    """``RealFFTPair.forward_from``: an aligned array (read in place by pyFFTW: the pair's input buffer
+    keeps what it held), an unaligned one and a strided one (copied) all give rfft2 to rounding; none
+    is changed, and the plan then reads its own buffer again."""
+    shape = (24, 18)
+    with fft.use_backend(backend):
+        pair = fft.RealFFTPair(shape)
+        aligned = fft.empty_aligned(shape)
+        unaligned = np.frombuffer(np.zeros(aligned.size * 8 + 8, np.uint8)[8:].data, dtype=float).reshape(shape)
+        strided = np.empty((2 * shape[0], shape[1]))[::2]
+        for array in (aligned, unaligned, strided):
+            array[...] = RNG.random(shape)
+            kept = array.copy()
+            pair.real_in[...] = 7.0
+            pair.forward_from(array)
+            assert np.allclose(pair.spectrum, np.fft.rfft2(kept), rtol=0, atol=1e-12 * np.abs(kept).sum())
+            assert np.array_equal(array, kept)
+            if array is aligned:
+                assert (pair.real_in == 7.0).all()
+            pair.forward()
+            assert pair.spectrum[0, 0] == pytest.approx(pair.real_in.sum(), rel=1e-14)
+
+
 def test_scipy_backend_runs_a_contact():
     """The fallback path solves a contact alone (as on a machine without pyFFTW)."""
     grid = fw.Grid(shape=(32, 32), size=(1e-3, 1e-3))

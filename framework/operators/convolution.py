@@ -108,8 +108,11 @@ class Convolution:
         if self._scaled is None or self._scaled[0] != factor:
             self._scaled = (factor, self.spectrum * factor)
         n1, n2 = self.shape
-        pair.real_in[:n1, :n2] = field
-        pair.forward()
+        if self.fft_shape == self.shape:   # unpadded (a doubly periodic grid): an aligned field is read in place
+            pair.forward_from(field)
+        else:
+            pair.real_in[:n1, :n2] = field
+            pair.forward()
         np.multiply(pair.spectrum, self._scaled[1], out=pair.spectrum)
         pair.inverse()
         block = pair.real_out[:n1, :n2]

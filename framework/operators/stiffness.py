@@ -74,9 +74,7 @@ class SurfaceStiffness:
         """``|q|/2`` times ``field`` (any 2-D shape, taken as periodic) [per m]; ``copy=False`` returns the
         operator's own buffer, overwritten by the next call on a box of that shape."""
         pair, multiplier = self._plan(np.shape(field))
-        if field is not pair.real_in:
-            pair.real_in[...] = field
-        pair.forward()
+        pair.forward_from(field)
         np.multiply(pair.spectrum, multiplier, out=pair.spectrum)
         pair.inverse()
         return pair.real_out.copy() if copy else pair.real_out
