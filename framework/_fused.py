@@ -9,7 +9,9 @@ does all its work per cell and returns its sums:
 
 =============  ===============================================================
 ``gap``        ``gap = base + u``, ``contact = p > 0``; the gap summed over the
-               contact, its cell count, a bound on ``max u^2`` (``sum u^2``)
+               contact, its cell count, a bound on ``max u^2`` (``sum u^2``),
+               the first row holding contact and the last plus one (-1, -1:
+               none)
 ``centre``     ``gap -= shift``; ``sum gap^2`` over the contact, whether a free
                cell interpenetrates
 ``direction``  ``d = beta d + gap`` on the contact, 0 elsewhere; ``sum d gap``
@@ -26,9 +28,10 @@ does all its work per cell and returns its sums:
 ``rescale``    ``p' *= factor``; ``sum |p' - p|`` and ``sum p'``
 =============  ===============================================================
 
-Every pass but ``curvature`` takes flat views (``a.reshape(-1)``) of
-C-ordered grid fields; ``curvature`` takes the response on a box whose first
-cell is ``(first, second)`` of the 2-D grid fields.
+``gap`` walks the 2-D grid fields by rows (the displacement may be a block
+of a padded FFT buffer, which has no flat view); ``mask``, ``preconditioned``,
+``direction_box`` and ``curvature`` walk boxes of them; the others take flat
+views (``a.reshape(-1)``) of C-ordered grid fields.
 
 With numba (``pip install viscocontact[jit]``, :data:`NUMBA_MINIMUM`) each is a
 compiled loop (cached on disk, so compiled once per installation) on grids of
@@ -122,17 +125,26 @@ class _Loops:
 
     def gap(base, displacement, pressure, gap, contact):
         total, count, square = 0.0, 0.0, 0.0
-        for k in range(base.size):
-            u = displacement[k]
-            value = base[k] + u
-            gap[k] = value
-            inside = pressure[k] > 0.0
-            contact[k] = inside
-            # selections, not branches: they keep the loop on vector registers
-            total += value if inside else 0.0
-            count += 1.0 if inside else 0.0
-            square += u * u
-        return total, count, square
+        first, last = -1, -1
+        rows, columns = base.shape
+        for i in range(rows):
+            b, u, p, g, c = base[i], displacement[i], pressure[i], gap[i], contact[i]
+            cells = 0.0
+            for j in range(columns):
+                value = b[j] + u[j]
+                g[j] = value
+                inside = p[j] > 0.0
+                c[j] = inside
+                # selections, not branches: they keep the loop on vector registers
+                total += value if inside else 0.0
+                cells += 1.0 if inside else 0.0
+                square += u[j] * u[j]
+            if cells > 0.0:
+                last = i + 1
+                if first < 0:
+                    first = i
+            count += cells
+        return total, count, square, first, last
 
     def centre(gap, contact, shift):
         norm, overlaps = 0.0, 0.0
@@ -237,7 +249,10 @@ class NumpyPasses:
     def gap(base, displacement, pressure, gap, contact):
         np.add(base, displacement, out=gap)
         np.greater(pressure, 0.0, out=contact)
-        return float(gap.sum(where=contact)), float(np.count_nonzero(contact)), float(np.abs(displacement).max()) ** 2
+        touched = np.flatnonzero(contact.any(axis=1))
+        first, last = (int(touched[0]), int(touched[-1]) + 1) if touched.size else (-1, -1)
+        return (float(gap.sum(where=contact)), float(np.count_nonzero(contact)), float(np.abs(displacement).max()) ** 2,
+                first, last)
 
     @staticmethod
     def centre(gap, contact, shift):

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _fused
+from . import _fused, fft
 from ._fused import _dot
 from ._validation import check_bool, check_positive_int, check_real
 from .errors import ConvergenceError, LoadNotCarriedError, ParameterError
@@ -318,8 +318,8 @@ def _stalls(count, step, conjugate):
     return count + 1 if step == 0.0 and conjugate else 0
 
 
-def _iterate(problem, pressure):
-    """Polonsky-Keer conjugate gradients from ``pressure``, with fused passes (:mod:`framework._fused`).
+def _iterate(problem, start):
+    """Polonsky-Keer conjugate gradients from the pressure ``start``, with fused passes (:mod:`framework._fused`).
 
     The same iteration as :func:`_iterate_reference`, which it must match to
     rounding: each block of elementwise work is one pass of
@@ -335,15 +335,18 @@ def _iterate(problem, pressure):
     tuple
         ``(pressure, displacement, gap, approach, coefficients, iterations, residual, change)``.
     """
-    passes = _fused.passes(np.size(pressure))
+    passes = _fused.passes(np.size(start))
     apply, options, modes = problem.apply, problem.options, problem.modes
     load_control = problem.load is not None
     base = np.ascontiguousarray(problem.base_gap)
-    pressure = np.ascontiguousarray(pressure)
-    fresh, direction, gap = np.empty_like(pressure), np.zeros_like(pressure), np.empty_like(pressure)
+    # the pressure and the direction in arrays the FFTs of an unpadded grid read in place (fft.empty_aligned)
+    pressure, fresh, direction = (fft.empty_aligned(base.shape) for _ in range(3))
+    pressure[...] = start
+    direction[...] = 0.0
+    gap = np.empty_like(base)
     contact = np.empty(pressure.shape, dtype=bool)
     # the passes walk flat views of the grid fields (see framework._fused)
-    flat_base, flat_gap, flat_contact, flat_direction = (a.reshape(-1) for a in (base, gap, contact, direction))
+    flat_gap, flat_contact, flat_direction = (a.reshape(-1) for a in (gap, contact, direction))
     whole = (slice(None), slice(None))
     rows, columns = pressure.shape
     held = (0, rows)    # rows outside which the direction and the second buffer vanish (at first: unknown)
@@ -352,10 +355,8 @@ def _iterate(problem, pressure):
     change, residual, stalled = np.inf, np.inf, 0
     for iteration in range(options.max_iterations + 1):
         displacement = apply(pressure)
-        total, count, square = passes.gap(flat_base, displacement.reshape(-1), pressure.reshape(-1), flat_gap,
-                                             flat_contact)
-        touched = np.flatnonzero(contact.any(axis=1))
-        current = (int(touched[0]), int(touched[-1]) + 1) if touched.size else held
+        total, count, square, first, last = passes.gap(base, displacement, pressure, gap, contact)
+        current = (first, last) if count else held
         first_row, last_row = min(held[0], current[0]), max(held[1], current[1])
         span = slice(first_row * columns, last_row * columns)    # those rows in the flat views
         held = current
