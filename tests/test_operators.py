@@ -271,6 +271,23 @@ def test_surface_stiffness_inverts_the_periodic_compliance():
     assert np.allclose(box, np.pi / (16 * 2e-3 / 48) * np.cos(2 * np.pi * X1[:16, :8] / (16 * 2e-3 / 48)), atol=1e-9)
 
 
+def test_surface_compliance_keeps_the_windows_of_its_last_boxes_only():
+    """A growing contact meets box after box: the operator keeps the last few, and a box planned again
+    gives the same numbers."""
+    grid = fw.Grid(shape=(96, 96), size=(1e-3, 1e-3))
+    operator = SurfaceCompliance(grid)
+    field = np.random.default_rng(4).random(grid.shape)
+    first = operator.apply_window(field[:16, :16], (slice(0, 16), slice(0, 16)))
+    for side in range(24, 16 + 8 * SurfaceCompliance.KEPT + 1, 8):
+        operator.apply_window(field[:side, :side], (slice(0, side), slice(0, side)))
+    assert (16, 16) not in operator._windows and len(operator._windows) == SurfaceCompliance.KEPT
+    again = operator.apply_window(field[:16, :16], (slice(0, 16), slice(0, 16)))
+    assert np.array_equal(again, first)
+    padded = np.zeros(grid.shape)
+    padded[:16, :16] = field[:16, :16]
+    assert np.allclose(again, operator.apply(padded)[:16, :16], rtol=0, atol=1e-12 * np.abs(again).max())
+
+
 def test_surface_stiffness_keeps_the_plans_of_its_last_boxes_only():
     """A contact shrinking from the whole grid must not keep the whole grid's FFT buffers for the run."""
     grid = fw.Grid(shape=(64, 64), size=(1e-3, 1e-3), periodic=(True, True))

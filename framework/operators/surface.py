@@ -40,10 +40,14 @@ class SurfaceCompliance:
         the DFT modes of the periodic axis (see :func:`mixed_mode_kernel`).
     """
 
+    #: Window boxes whose kernel spectra and FFT plans are kept, the most recently used: a run whose contact
+    #: grows (creep, a transient roll) meets box after box, and would keep them all.
+    KEPT = 4
+
     def __init__(self, grid, kernel=None):
         self.grid = grid
         periodic = grid.periodic
-        self._windows = {}
+        self._windows = {}    # box shape -> its Convolution, least recently used first
         if all(periodic):
             if kernel is not None:
                 raise ParameterError("kernel: a doubly periodic grid takes the spectral kernel 2/|q| only; "
@@ -117,8 +121,12 @@ class SurfaceCompliance:
         if window == (slice(None), slice(None)):
             return self.apply(field, scale, copy)
         shape = np.shape(field)
-        convolution = self._windows.get(shape)
-        if convolution is None:
+        convolution = self._windows.pop(shape, None)
+        if convolution is not None:
+            self._windows[shape] = convolution     # now the most recently used
+        else:
+            while len(self._windows) >= self.KEPT:
+                del self._windows[next(iter(self._windows))]
             (n1, n2), (m1, m2) = self.grid.shape, shape
             rows = np.r_[0:m1, 2 * n1 - m1:2 * n1]
             cols = np.r_[0:m2, 2 * n2 - m2:2 * n2]
