@@ -155,6 +155,17 @@ def empty_aligned(shape):
     return np.empty(shape)
 
 
+def aligned(array):
+    """``array`` itself where :meth:`RealFFTPair.forward_from` can read it in place (C-ordered float64, aligned
+    for pyFFTW), else a copy that it can."""
+    if (array.dtype == np.float64 and array.flags.c_contiguous
+            and (pyfftw is None or array.ctypes.data % pyfftw.simd_alignment == 0)):
+        return array
+    out = empty_aligned(array.shape)
+    out[...] = array
+    return out
+
+
 def _readable(array, buffer):
     """Whether pyFFTW can read ``array`` in place of ``buffer``: the same shape, float64, C-ordered and aligned."""
     return (array.shape == buffer.shape and array.dtype == buffer.dtype and array.flags.c_contiguous

@@ -255,6 +255,8 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
 
     problem = _Problem(apply, base_gap, cell_area, load if load_control else None, approach, offset, targets, modes,
                        options, window, apply_window, diagonal, precondition if options.preconditioned else None)
+    # the start in an array the FFTs of an unpadded grid read in place, which the loop then works in
+    pressure = fft.aligned(pressure)
     pressure, displacement, gap, delta, coefficients, iteration, residual, change = _iterate(problem, pressure)
     displacement = np.array(displacement)   # apply's own buffer, perhaps
 
@@ -339,9 +341,9 @@ def _iterate(problem, start):
     apply, options, modes = problem.apply, problem.options, problem.modes
     load_control = problem.load is not None
     base = np.ascontiguousarray(problem.base_gap)
-    # the pressure and the direction in arrays the FFTs of an unpadded grid read in place (fft.empty_aligned)
-    pressure, fresh, direction = (fft.empty_aligned(base.shape) for _ in range(3))
-    pressure[...] = start
+    # the pressure and the direction in arrays the FFTs of an unpadded grid read in place (fft.aligned): the
+    # start is the caller's own array, the first of the two pressure buffers
+    pressure, fresh, direction = fft.aligned(start), fft.empty_aligned(base.shape), fft.empty_aligned(base.shape)
     direction[...] = 0.0
     gap = np.empty_like(base)
     contact = np.empty(pressure.shape, dtype=bool)
