@@ -9,8 +9,8 @@ Runs, in this order, and prints the machine and then one row per figure:
 2. the viscoelastic creep of ``visco_indentation.py`` (256^2, 50 steps, 1e-8) against Tamaas'
    ``MaxwellViscoelastic``, and the mean iterations per step after the first of it and of a PMMA ball
    under a step load (128^2, 50 log-spaced times);
-3. the cost of a contact iteration against the FFT pairs it runs (timed alone in the same run), open and
-   periodic, 512^2 and 1024^2 (``contact_loop.py``);
+3. the cost of a contact iteration against the FFT pairs it runs (replayed alone, in the solve's order, in
+   the same run), open and periodic, 512^2 and 1024^2 (``contact_loop.py``);
 4. large grids and threads (``scale.py``, each case in a process of its own for its peak memory).
 
 Without Tamaas (``pip install tamaas``) the peer columns stay empty. About 12 minutes on 2 cores.
