@@ -156,20 +156,19 @@ def empty_aligned(shape):
 
 
 def aligned(array):
-    """``array`` itself where :meth:`RealFFTPair.forward_from` can read it in place (C-ordered float64, aligned
-    for pyFFTW), else a copy that it can."""
-    if (array.dtype == np.float64 and array.flags.c_contiguous
-            and (pyfftw is None or array.ctypes.data % pyfftw.simd_alignment == 0)):
+    """``array`` itself where :meth:`RealFFTPair.forward_from` can read it in place, else a copy that it can."""
+    if _in_place(array):
         return array
     out = empty_aligned(array.shape)
     out[...] = array
     return out
 
 
-def _readable(array, buffer):
-    """Whether pyFFTW can read ``array`` in place of ``buffer``: the same shape, float64, C-ordered and aligned."""
-    return (array.shape == buffer.shape and array.dtype == buffer.dtype and array.flags.c_contiguous
-            and array.ctypes.data % pyfftw.simd_alignment == 0)
+def _in_place(array):
+    """Whether pyFFTW's plans can read ``array`` where it lies: C-ordered float64, aligned for its vector
+    instructions (any C-ordered float64 array without pyFFTW)."""
+    return (array.dtype == np.float64 and array.flags.c_contiguous
+            and (pyfftw is None or array.ctypes.data % pyfftw.simd_alignment == 0))
 
 
 class RealFFTPair:
@@ -222,7 +221,7 @@ class RealFFTPair:
         """
         if array is self.real_in:
             self.forward()
-        elif self.backend == "pyfftw" and _readable(array, self.real_in):
+        elif self.backend == "pyfftw" and array.shape == self.shape and _in_place(array):
             self._forward.update_arrays(array, self.spectrum)
             try:
                 self._forward.execute()

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import fft
 from .convolution import wavenumbers
-from .surface import box_around
+from .surface import box_around, most_recent
 
 
 class SurfaceStiffness:
@@ -47,18 +47,18 @@ class SurfaceStiffness:
 
     def _plan(self, shape):
         shape = tuple(shape)
-        plan = self._boxes.pop(shape, None)
-        if plan is not None:
-            self._boxes[shape] = plan    # now the most recently used
-        if plan is None or (plan[0].backend, plan[0].threads) != (fft.get_backend(), fft.THREADS):
-            while len(self._boxes) >= self.KEPT:
-                del self._boxes[next(iter(self._boxes))]
+
+        def build():
             pair = fft.RealFFTPair(shape)
             q = np.hypot(*wavenumbers(shape, self.spacing))
             longest = [2 * np.pi / (n * d) for n, d in zip(shape, self.spacing) if n > 1]
             q[0, 0] = min(longest) if longest else 1.0 / max(self.spacing)
-            plan = self._boxes[shape] = (pair, 0.5 * q * pair.normalisation)
-        return plan
+            return pair, 0.5 * q * pair.normalisation
+
+        def current(plan):   # made for the FFT backend and threads in use
+            return (plan[0].backend, plan[0].threads) == (fft.get_backend(), fft.THREADS)
+
+        return most_recent(self._boxes, shape, build, self.KEPT, current)
 
     def window(self, support):
         """Slices of a box holding ``support`` (boolean, the grid's shape) to apply the operator on

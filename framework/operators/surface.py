@@ -121,20 +121,30 @@ class SurfaceCompliance:
         if window == (slice(None), slice(None)):
             return self.apply(field, scale, copy)
         shape = np.shape(field)
-        convolution = self._windows.pop(shape, None)
-        if convolution is not None:
-            self._windows[shape] = convolution     # now the most recently used
-        else:
-            while len(self._windows) >= self.KEPT:
-                del self._windows[next(iter(self._windows))]
-            (n1, n2), (m1, m2) = self.grid.shape, shape
-            rows = np.r_[0:m1, 2 * n1 - m1:2 * n1]
-            cols = np.r_[0:m2, 2 * n2 - m2:2 * n2]
-            kernel = self._kernel[np.ix_(rows, cols)].copy()
-            kernel[m1, :] = 0.0  # offsets -m, never used by an m-point linear convolution
-            kernel[:, m2] = 0.0
-            convolution = self._windows[shape] = Convolution(fft.rfft2(kernel), shape, (False, False))
-        return convolution.apply(field, scale, copy)
+        return most_recent(self._windows, shape, lambda: self._window_convolution(shape), self.KEPT).apply(
+            field, scale, copy)
+
+    def _window_convolution(self, shape):
+        """The DC-FFT convolution of a box of ``shape``: the kernel's offsets within the box, wrapped."""
+        (n1, n2), (m1, m2) = self.grid.shape, shape
+        rows = np.r_[0:m1, 2 * n1 - m1:2 * n1]
+        cols = np.r_[0:m2, 2 * n2 - m2:2 * n2]
+        kernel = self._kernel[np.ix_(rows, cols)].copy()
+        kernel[m1, :] = 0.0  # offsets -m, never used by an m-point linear convolution
+        kernel[:, m2] = 0.0
+        return Convolution(fft.rfft2(kernel), shape, (False, False))
+
+
+def most_recent(cache, key, build, kept, valid=lambda value: True):
+    """``cache[key]``, made by ``build()`` when missing (or not ``valid``), and marked the most recently used;
+    ``cache`` (a dict, least recently used first) keeps ``kept`` entries at most."""
+    value = cache.pop(key, None)
+    if value is None or not valid(value):
+        while len(cache) >= kept:
+            del cache[next(iter(cache))]
+        value = build()
+    cache[key] = value
+    return value
 
 
 def box_around(support, planned=()):
