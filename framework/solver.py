@@ -341,8 +341,9 @@ def _iterate(problem, start):
     apply, options, modes = problem.apply, problem.options, problem.modes
     load_control = problem.load is not None
     base = np.ascontiguousarray(problem.base_gap)
-    # the pressure and the direction in arrays the FFTs of an unpadded grid read in place (fft.aligned): the
-    # start is the caller's own array, the first of the two pressure buffers
+    # the pressure and the direction in arrays the FFTs of an unpadded grid read in place: the start is the
+    # caller's own array and the first of the two pressure buffers (solve_normal aligns it before the call, so
+    # that no second grid is held; fft.aligned here only guarantees the C order the passes' flat views need)
     pressure, fresh, direction = fft.aligned(start), fft.empty_aligned(base.shape), fft.empty_aligned(base.shape)
     direction[...] = 0.0
     gap = np.empty_like(base)
