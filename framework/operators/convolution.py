@@ -8,7 +8,7 @@ convolution with a kernel that is already periodic on that axis.
 """
 import numpy as np
 
-from .. import fft
+from .. import _fused, fft
 from ..errors import ShapeError
 
 
@@ -113,7 +113,7 @@ class Convolution:
         else:
             pair.real_in[:n1, :n2] = field
             pair.forward()
-        np.multiply(pair.spectrum, self._scaled[1], out=pair.spectrum)
+        _fused.multiply(pair.spectrum, self._scaled[1])
         pair.inverse()
         block = pair.real_out[:n1, :n2]
         return block.copy() if copy else block

@@ -19,7 +19,7 @@ axis), also on a periodic grid, where the products need the whole grid.
 """
 import numpy as np
 
-from .. import fft
+from .. import _fused, fft
 from .convolution import wavenumbers
 from .surface import box_around, most_recent
 
@@ -75,6 +75,6 @@ class SurfaceStiffness:
         operator's own buffer, overwritten by the next call on a box of that shape."""
         pair, multiplier = self._plan(np.shape(field))
         pair.forward_from(field)
-        np.multiply(pair.spectrum, multiplier, out=pair.spectrum)
+        _fused.multiply(pair.spectrum, multiplier)
         pair.inverse()
         return pair.real_out.copy() if copy else pair.real_out
