@@ -4,32 +4,44 @@ An iteration of :func:`framework.solver.solve_normal` is two FFT products and
 a dozen elementwise operations on grid fields; as numpy expressions each is
 a pass through memory (and often a temporary), which on a doubly periodic grid
 cost more than the FFTs. Here they are grouped into six passes (and three
-for a preconditioned solve), each one loop over the grid, or a box of it, that
-does all its work per cell and returns its sums:
+more for a preconditioned solve, one for the spectral products), each one
+loop over the grid, or a box of it, that does all its work per cell and
+returns its sums:
 
 =============  ===============================================================
-``gap``        ``gap = base + u``, ``contact = p > 0``; the gap summed over the
-               contact, its cell count, a bound on ``max u^2`` (``sum u^2``),
-               the first row holding contact and the last plus one (-1, -1:
-               none)
-``centre``     ``gap -= shift``; ``sum gap^2`` over the contact, whether a free
-               cell interpenetrates
-``direction``  ``d = beta d + gap`` on the contact, 0 elsewhere; ``sum d gap``
-``mask``       the gap on the contact, 0 elsewhere, on a box of the grid
-               (the preconditioner's input)
+``gap``        on the rows ``top .. bottom - 1`` (outside them the pressure
+               vanishes): ``gap = base + u``, ``contact = p > 0``; the gap
+               summed over the contact, its cell count, ``sum u^2`` (with
+               :meth:`norm`'s, a bound on ``max u^2``), the first row holding
+               contact and the last plus one (-1, -1: none)
+``norm``       ``sum (gap - shift)^2`` over the contact, whether a free cell
+               interpenetrates (``gap < shift``; on the other rows, where
+               ``gap`` is not written, ``base + u < shift``), ``sum u^2`` on
+               those rows; it reads, writes nothing
+``direction``  ``d = beta d + gap - shift`` on the contact, 0 elsewhere;
+               ``sum d (gap - shift)``
+``mask``       the gap less the shift on the contact, 0 elsewhere, on a box
+               of the grid (the preconditioner's input)
 ``preconditioned`` ``sum z`` over the contact, ``sum z b`` and ``sum b`` for the
                preconditioned gap ``z`` of the masked gap ``b``, on the box
 ``direction_box`` ``d = beta d + z - mean`` on the contact, 0 elsewhere;
-               ``sum d gap``
+               ``sum d (gap - shift)``
 ``curvature``  ``sum r d``, ``sum r`` over the contact and ``sum d``, with the
                response ``r`` on a box of the grid
-``advance``    ``p' = max(p - step d, 0)`` on the contact, ``-entry gap`` on
-               free cells that interpenetrate, 0 elsewhere; ``sum p'``
+``advance``    ``p' = max(p - step d, 0)`` on the contact, ``-entry (gap -
+               shift)`` on free cells that interpenetrate (``gap < shift``), 0
+               elsewhere; ``sum p'``
 ``rescale``    ``p' *= factor``; ``sum |p' - p|`` and ``sum p'``
+``multiply``   ``spectrum *= multiplier`` (complex by real, in place): the
+               spectral product of a convolution
 =============  ===============================================================
 
-``gap`` walks the 2-D grid fields by rows (the displacement may be a block
-of a padded FFT buffer, which has no flat view); ``mask``, ``preconditioned``,
+The gap is kept as ``base + u``: the rigid shift (the approach) is subtracted
+where the gap is read, which spares a pass over the grid an iteration; the
+passes on the contact set walk only its rows.
+
+``gap`` and ``norm`` walk the 2-D grid fields by rows (the displacement may
+be a block of a padded FFT buffer, which has no flat view); ``mask``, ``preconditioned``,
 ``direction_box`` and ``curvature`` walk boxes of them; the others take flat
 views (``a.reshape(-1)``) of C-ordered grid fields.
 
@@ -110,8 +122,18 @@ def passes(cells=None):
     return _cache["compiled"]
 
 
-_NAMES = ("gap", "centre", "direction", "mask", "preconditioned", "direction_box", "curvature", "advance",
-          "rescale")
+def multiply(spectrum, multiplier):
+    """``spectrum *= multiplier`` in place: by the compiled pass (twice numpy's speed, which casts the real
+    factor to complex) for a real C-ordered factor of the spectrum's shape, else by numpy."""
+    if (multiplier.dtype == np.float64 and multiplier.shape == spectrum.shape and multiplier.flags.c_contiguous
+            and spectrum.flags.c_contiguous and spectrum.ndim == 2):
+        passes(spectrum.size).multiply(spectrum, multiplier)
+    else:
+        np.multiply(spectrum, multiplier, out=spectrum)
+
+
+_NAMES = ("gap", "norm", "direction", "mask", "preconditioned", "direction_box", "curvature", "advance",
+          "rescale", "multiply")
 
 
 class _Loops:
@@ -123,11 +145,11 @@ class _Loops:
     :meth:`curvature` is walked by rows of its own.
     """
 
-    def gap(base, displacement, pressure, gap, contact):
+    def gap(base, displacement, pressure, gap, contact, top, bottom):
         total, count, square = 0.0, 0.0, 0.0
         first, last = -1, -1
-        rows, columns = base.shape
-        for i in range(rows):
+        columns = base.shape[1]
+        for i in range(top, bottom):
             b, u, p, g, c = base[i], displacement[i], pressure[i], gap[i], contact[i]
             cells = 0.0
             for j in range(columns):
@@ -146,30 +168,40 @@ class _Loops:
             count += cells
         return total, count, square, first, last
 
-    def centre(gap, contact, shift):
-        norm, overlaps = 0.0, 0.0
-        for k in range(gap.size):
-            value = gap[k] - shift
-            gap[k] = value
-            inside = contact[k]
-            norm += value * value if inside else 0.0
-            overlaps += 1.0 if value < 0.0 and not inside else 0.0
-        return norm, overlaps
+    def norm(gap, contact, base, displacement, shift, top, bottom):
+        norm, overlaps, square = 0.0, 0.0, 0.0
+        rows, columns = gap.shape
+        for i in range(rows):
+            if top <= i < bottom:
+                g, c = gap[i], contact[i]
+                for j in range(columns):
+                    value = g[j] - shift
+                    inside = c[j]
+                    norm += value * value if inside else 0.0
+                    overlaps += 1.0 if value < 0.0 and not inside else 0.0
+            else:   # no contact on these rows, and no gap written: the free cells' gap from its terms
+                b, u = base[i], displacement[i]
+                for j in range(columns):
+                    value = (b[j] + u[j]) - shift
+                    overlaps += 1.0 if value < 0.0 else 0.0
+                    square += u[j] * u[j]
+        return norm, overlaps, square
 
-    def direction(direction, gap, contact, beta):
+    def direction(direction, gap, contact, beta, shift):
         numerator = 0.0
         for k in range(gap.size):
-            value = beta * direction[k] + gap[k] if contact[k] else 0.0
+            g = gap[k] - shift
+            value = beta * direction[k] + g if contact[k] else 0.0
             direction[k] = value
-            numerator += value * gap[k]
+            numerator += value * g
         return numerator
 
-    def mask(buffer, gap, contact, top, left):
+    def mask(buffer, gap, contact, top, left, shift):
         rows, columns = buffer.shape
         for i in range(rows):
             b, g, c = buffer[i], gap[top + i, left:left + columns], contact[top + i, left:left + columns]
             for j in range(columns):
-                b[j] = g[j] if c[j] else 0.0
+                b[j] = g[j] - shift if c[j] else 0.0
 
     def preconditioned(field, buffer, contact, top, left):
         inside, product, total = 0.0, 0.0, 0.0
@@ -182,7 +214,7 @@ class _Loops:
                 total += b[j]
         return inside, product, total
 
-    def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left):
+    def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left, shift):
         numerator = 0.0
         rows, columns = field.shape
         width = direction.shape[1]
@@ -201,7 +233,7 @@ class _Loops:
             for j in range(columns):
                 value = beta * b[j] + f[j] - mean if c[j] else 0.0
                 b[j] = value
-                numerator += value * g[j]
+                numerator += value * (g[j] - shift)
         return numerator
 
     def curvature(response, direction, contact, first, second):
@@ -217,10 +249,10 @@ class _Loops:
                 total += d[j]
         return product, inside, total
 
-    def advance(fresh, pressure, direction, gap, contact, step, entry):
+    def advance(fresh, pressure, direction, gap, contact, step, entry, shift):
         total = 0.0
         for k in range(gap.size):
-            g = gap[k]
+            g = gap[k] - shift
             value = max(pressure[k] - step * direction[k], 0.0) if contact[k] else (-entry * g if g < 0.0 else 0.0)
             fresh[k] = value
             total += value
@@ -235,6 +267,13 @@ class _Loops:
             total += value
         return moved, total
 
+    def multiply(spectrum, multiplier):
+        rows, columns = multiplier.shape
+        for i in range(rows):
+            s, m = spectrum[i], multiplier[i]
+            for j in range(columns):
+                s[j] = s[j] * m[j]
+
 
 def _dot(a, b):
     """Sum of ``a * b`` (flat or 2-D) in numpy's own loop: BLAS threads stall when the cores are busy."""
@@ -246,32 +285,41 @@ class NumpyPasses:
     """The passes as numpy expressions, with the same arguments and results as :class:`_Loops`."""
 
     @staticmethod
-    def gap(base, displacement, pressure, gap, contact):
-        np.add(base, displacement, out=gap)
-        np.greater(pressure, 0.0, out=contact)
-        touched = np.flatnonzero(contact.any(axis=1))
-        first, last = (int(touched[0]), int(touched[-1]) + 1) if touched.size else (-1, -1)
-        return (float(gap.sum(where=contact)), float(np.count_nonzero(contact)), float(np.abs(displacement).max()) ** 2,
-                first, last)
+    def gap(base, displacement, pressure, gap, contact, top, bottom):
+        rows = slice(top, bottom)
+        np.add(base[rows], displacement[rows], out=gap[rows])
+        np.greater(pressure[rows], 0.0, out=contact[rows])
+        touched = np.flatnonzero(contact[rows].any(axis=1))
+        first, last = (int(touched[0]) + top, int(touched[-1]) + top + 1) if touched.size else (-1, -1)
+        return (float(gap[rows].sum(where=contact[rows])), float(np.count_nonzero(contact[rows])),
+                float(np.abs(displacement[rows]).max(initial=0.0)) ** 2, first, last)
 
     @staticmethod
-    def centre(gap, contact, shift):
-        np.subtract(gap, shift, out=gap)
-        inside = np.where(contact, gap, 0.0)
-        # gap < 0 on a free cell: the overlap is where the gap outside the contact set is negative
-        return _dot(inside, inside), float(np.count_nonzero(gap - inside < 0.0))
+    def norm(gap, contact, base, displacement, shift, top, bottom):
+        rows = slice(top, bottom)
+        centred = np.subtract(gap[rows], shift)
+        inside = np.where(contact[rows], centred, 0.0)
+        # gap < shift on a free cell: the overlap is where the centred gap outside the contact set is negative
+        overlaps = np.count_nonzero(centred - inside < 0.0)
+        square = 0.0
+        for other in (slice(0, top), slice(bottom, None)):
+            overlaps += np.count_nonzero(base[other] + displacement[other] - shift < 0.0)
+            square = max(square, float(np.abs(displacement[other]).max(initial=0.0)) ** 2)
+        return _dot(inside, inside), float(overlaps), square
 
     @staticmethod
-    def direction(direction, gap, contact, beta):
+    def direction(direction, gap, contact, beta, shift):
+        centred = np.subtract(gap, shift)
         np.multiply(direction, beta, out=direction)
-        np.add(direction, gap, out=direction)
+        np.add(direction, centred, out=direction)
         np.multiply(direction, contact, out=direction)
-        return _dot(direction, gap)
+        return _dot(direction, centred)
 
     @staticmethod
-    def mask(buffer, gap, contact, top, left):
+    def mask(buffer, gap, contact, top, left, shift):
         box = (slice(top, top + buffer.shape[0]), slice(left, left + buffer.shape[1]))
-        np.multiply(gap[box], contact[box], out=buffer)
+        np.subtract(gap[box], shift, out=buffer)
+        np.multiply(buffer, contact[box], out=buffer)
 
     @staticmethod
     def preconditioned(field, buffer, contact, top, left):
@@ -279,7 +327,7 @@ class NumpyPasses:
         return float(field.sum(where=contact[box])), _dot(field, buffer), float(buffer.sum())
 
     @staticmethod
-    def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left):
+    def direction_box(direction, field, gap, contact, beta, mean, first, last, top, left, shift):
         box = (slice(top, top + field.shape[0]), slice(left, left + field.shape[1]))
         rows = slice(min(first, box[0].start), max(last, box[0].stop))   # the box's rows and the old direction's
         np.multiply(direction[rows], beta, out=direction[rows])
@@ -287,7 +335,7 @@ class NumpyPasses:
         if mean:
             direction[box] -= mean
         np.multiply(direction[rows], contact[rows], out=direction[rows])
-        return _dot(direction[rows], gap[rows])
+        return _dot(direction[rows], gap[rows] - shift)
 
     @staticmethod
     def curvature(response, direction, contact, first, second):
@@ -295,16 +343,20 @@ class NumpyPasses:
         return _dot(response, direction[box]), float(response.sum(where=contact[box])), float(direction[box].sum())
 
     @staticmethod
-    def advance(fresh, pressure, direction, gap, contact, step, entry):
+    def advance(fresh, pressure, direction, gap, contact, step, entry, shift):
         np.multiply(direction, step, out=fresh)
         np.subtract(pressure, fresh, out=fresh)
         np.maximum(fresh, 0.0, out=fresh)
         if entry:
-            overlap = ~contact & (gap < 0.0)
-            fresh[overlap] = -entry * gap[overlap]
+            overlap = ~contact & (gap < shift)
+            fresh[overlap] = -entry * (gap[overlap] - shift)
         return float(fresh.sum())
 
     @staticmethod
     def rescale(fresh, pressure, factor):
         np.multiply(fresh, factor, out=fresh)
         return float(np.abs(fresh - pressure).sum()), float(fresh.sum())
+
+    @staticmethod
+    def multiply(spectrum, multiplier):
+        np.multiply(spectrum, multiplier, out=spectrum)

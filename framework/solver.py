@@ -142,10 +142,11 @@ class RigidModes:
         return False
 
 
-def _residual(gap, contact, displacement):
+def _residual(gap, contact, displacement, shift=0.0):
+    """Complementarity residual of the gap ``gap - shift``, relative to the largest displacement."""
     scale = max(np.abs(displacement).max(), np.finfo(float).tiny)
-    inside = np.abs(gap[contact]).max(initial=0.0)
-    outside = max(0.0, -gap[~contact].min(initial=0.0))
+    inside = np.abs(gap[contact] - shift).max(initial=0.0)
+    outside = max(0.0, shift - gap[~contact].min(initial=shift))
     return max(inside, outside) / scale
 
 
@@ -331,6 +332,11 @@ def _iterate(problem, start):
     (``sum (r - m) d = sum r d - m sum d``) instead of being subtracted, and
     the passes on the direction and the new pressure walk only the rows that
     hold the contact, this one's and the last one's (outside them both vanish).
+    The gap is kept as ``b + A p``, the rigid shift subtracted where the passes
+    read it (no pass writes the centred gap), and it is written only on the
+    rows where the pressure may be positive: on the others the norm pass finds
+    the free cells that interpenetrate from ``b`` and ``A p`` directly, and the
+    gap is completed there only when it is read (a re-entry, the last check).
 
     Returns
     -------
@@ -353,16 +359,21 @@ def _iterate(problem, start):
     whole = (slice(None), slice(None))
     rows, columns = pressure.shape
     held = (0, rows)    # rows outside which the direction and the second buffer vanish (at first: unknown)
+    support = (0, rows)     # rows outside which the pressure vanishes (at first: unknown)
     coefficients = (0.0, 0.0, 0.0)
     norm_old, conjugate = 1.0, False
     change, residual, stalled = np.inf, np.inf, 0
     for iteration in range(options.max_iterations + 1):
         displacement = apply(pressure)
-        total, count, square, first, last = passes.gap(base, displacement, pressure, gap, contact)
+        # the gap and the contact on the pressure's rows only; the contact is false elsewhere (it was set on rows
+        # the pressure covered, which the next one covers too), the gap there is written when it is read
+        total, count, square, first, last = passes.gap(base, displacement, pressure, gap, contact, *support)
         current = (first, last) if count else held
         first_row, last_row = min(held[0], current[0]), max(held[1], current[1])
         span = slice(first_row * columns, last_row * columns)    # those rows in the flat views
         held = current
+        # the gap stays b + A p: the passes subtract the rigid shift where they read it (the approach; under a
+        # tilt the plane is removed here, a pass of its own, and the shift is 0)
         shift = problem.approach
         if load_control and modes.tilt:
             rigid, coefficients = modes.fit(gap, contact)
@@ -372,11 +383,17 @@ def _iterate(problem, start):
             shift = total / count
             coefficients = (shift, 0.0, 0.0)
         delta = coefficients[0] if load_control else problem.approach
-        norm, overlaps = passes.centre(flat_gap, flat_contact, shift)
+        norm, overlaps, rest = passes.norm(gap, contact, base, displacement, shift, *support)
+        square += rest
+        last_check = change < options.tolerance or iteration == options.max_iterations or stalled > 2
+        if overlaps or last_check:   # the re-entry and the residual read the gap on every row
+            _complete(gap, base, displacement, *support)
         # (a stalled solve stops here too, with the displacement and gap of the pressure it returns)
-        if change < options.tolerance or iteration == options.max_iterations or stalled > 2:
-            residual = _residual(gap, contact, displacement)
+        if last_check:
+            residual = _residual(gap, contact, displacement, shift)
             if residual < options.residual_tolerance or iteration == options.max_iterations or stalled > 2:
+                if shift:
+                    gap -= shift
                 break
         step, gain = 0.0, 1.0
         # as in the reference: no direction when the gap is flat to rounding over the contact set; the
@@ -388,17 +405,17 @@ def _iterate(problem, start):
                 # the products' box where they have one (an open grid), else a box of the preconditioner's
                 around = box if box != whole else problem.precondition.window(contact)
                 preconditioned, mean, product = _precondition(problem, passes, gap, contact, around, count,
-                                                              load_control)
+                                                              load_control, shift)
             if preconditioned is not None:
                 gain = product / norm
                 top, left = (0 if s.start is None else s.start for s in around)
                 numerator = passes.direction_box(direction, preconditioned, gap, contact,
                                                  product / norm_old if conjugate else 0.0, mean,
-                                                 first_row, last_row, top, left)
+                                                 first_row, last_row, top, left, shift)
                 norm_old = product
             else:
                 numerator = passes.direction(flat_direction[span], flat_gap[span], flat_contact[span],
-                                             norm / norm_old if conjugate else 0.0)
+                                             norm / norm_old if conjugate else 0.0, shift)
                 norm_old = norm
             if problem.window is None:
                 response = apply(direction)
@@ -423,7 +440,8 @@ def _iterate(problem, start):
             span = slice(None)
         for halving in range(40):
             total = passes.advance(fresh.reshape(-1)[span], pressure.reshape(-1)[span], flat_direction[span],
-                                   flat_gap[span], flat_contact[span], 0.5**halving * step, 0.5**halving * entry)
+                                   flat_gap[span], flat_contact[span], 0.5**halving * step, 0.5**halving * entry,
+                                   shift)
             factor = 1.0
             if not load_control:
                 break
@@ -440,13 +458,22 @@ def _iterate(problem, start):
         moved, total = passes.rescale(fresh.reshape(-1)[span], pressure.reshape(-1)[span], factor)
         change = moved / max(total, np.finfo(float).tiny)
         pressure, fresh = fresh, pressure
+        # the new pressure vanishes outside the rows walked (a tilt's restoring plane covers the contact only,
+        # but keep the whole grid there: it is a small case)
+        support = (0, rows) if span == slice(None) or modes.tilt else (first_row, last_row)
         stalled = _stalls(stalled, step, conjugate)
     return pressure, displacement, gap, delta, coefficients, iteration, residual, change
 
 
-def _precondition(problem, passes, gap, contact, box, count, load_control):
-    """The preconditioned gap on ``box`` (the preconditioner's), the mean it loses on the contact set and its
-    product with the gap.
+def _complete(gap, base, displacement, top, bottom):
+    """Write ``gap = base + displacement`` on the rows outside ``top .. bottom - 1`` (the gap pass's)."""
+    for rows in (slice(0, top), slice(bottom, None)):
+        np.add(base[rows], displacement[rows], out=gap[rows])
+
+
+def _precondition(problem, passes, gap, contact, box, count, load_control, shift):
+    """The preconditioned gap (``gap - shift`` on the contact) on ``box`` (the preconditioner's), the mean it
+    loses on the contact set and its product with the gap.
 
     Returns ``(field, mean, product)``: the direction's new part is ``field - mean``
     on the contact set (0 elsewhere); ``field`` is the preconditioner's buffer.
@@ -455,7 +482,7 @@ def _precondition(problem, passes, gap, contact, box, count, load_control):
     """
     top, left = (0 if s.start is None else s.start for s in box)
     buffer = problem.precondition.input(contact[box].shape)   # the masked gap goes straight into the operator's input
-    passes.mask(buffer, gap, contact, top, left)
+    passes.mask(buffer, gap, contact, top, left, shift)
     field = problem.precondition.apply(buffer, copy=False)
     if load_control and problem.modes.tilt:
         field = field - problem.modes.fit(field, contact[box], box)[0]

@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 
 import framework as fw
-from framework import _fused, indenters, materials, schedules, solver
+from framework import _fused, fft, indenters, materials, schedules, solver
 from framework.errors import ParameterError
 from framework.operators import SurfaceCompliance, SurfaceStiffness
 
@@ -79,7 +79,12 @@ def test_fused_loop_gives_the_reference_solution(compiled, periodic, control, pr
     with _fused.use_compiled(compiled):
         fast = solve(grid, heights, False, preconditioned, **arguments)
     plain = solve(grid, heights, True, preconditioned, **arguments)
-    assert_same(fast, plain, 1e-12 if control == "load" else 1e-10)
+    # Both loops run at tolerance 1e-14, at the rounding floor; conjugate gradients amplify their rounding
+    # differences mid-solve (to 4e-9 of the peak pressure, measured) before both converge again. With pyFFTW's
+    # rounding they stop on the same iteration, 1e-12 apart; with scipy's (the fallback without pyFFTW) the
+    # periodic plain case stops one iteration later, whose last step moves the pressure by 2.3e-11: within what
+    # the stopping tests guarantee, as under approach control.
+    assert_same(fast, plain, 1e-12 if control == "load" and fft.get_backend() == "pyfftw" else 1e-10)
     if preconditioned:   # the same solution as the plain Polonsky-Keer iteration, in fewer iterations
         unpreconditioned = solve(grid, heights, True, False, **arguments)
         assert_same(fast, unpreconditioned, 1e-10)
@@ -161,7 +166,8 @@ def test_compiled_passes_equal_numpy_passes():
     pressure[:4] = pressure[30:] = 0.0     # rows without contact: the gap pass returns rows 4-29
     padded = rng.random((2 * shape[0], 2 * shape[1]))   # the displacement as a block of a padded FFT buffer
     fields = dict(base=rng.random(shape), displacement=padded[:shape[0], :shape[1]],
-                  direction=rng.standard_normal(shape), response=rng.standard_normal((11, 7)))
+                  direction=rng.standard_normal(shape), response=rng.standard_normal((11, 7)),
+                  spectrum=rng.standard_normal((9, 5)) + 1j * rng.standard_normal((9, 5)), multiplier=rng.random((9, 5)))
     results = {}
     for compiled in (False, True):
         with _fused.use_compiled(compiled):
@@ -169,21 +175,24 @@ def test_compiled_passes_equal_numpy_passes():
             gap, contact = np.empty(shape), np.empty(shape, dtype=bool)
             direction, fresh = fields["direction"].copy(), np.empty(shape)
             flat = [a.reshape(-1) for a in (gap, contact, direction, fresh)]
-            sums = [passes.gap(fields["base"], fields["displacement"], pressure, gap, contact)]
-            sums.append(passes.centre(flat[0], flat[1], 0.7))
-            sums.append(passes.direction(flat[2], flat[0], flat[1], 0.3))
+            sums = [passes.gap(fields["base"], fields["displacement"], pressure, gap, contact, 0, shape[0])]
+            # the gap stays b + u: the shift 0.7 where read
+            sums.append(passes.norm(gap, contact, fields["base"], fields["displacement"], 0.7, 0, shape[0]))
+            sums.append(passes.direction(flat[2], flat[0], flat[1], 0.3, 0.7))
             sums.append(passes.curvature(fields["response"], direction, contact, 5, 9))
             boxed = direction.copy()   # on rows 3-30 (the old contact's), with the box's contact
             box_contact = contact & np.pad(np.ones((21, 9), bool), ((6, 10), (8, 6)))  # the box: rows 6-26, columns 8-16
             sums.append(passes.direction_box(boxed, fields["base"][6:27, 8:17] - 0.4, gap,
-                                             box_contact, 0.3, 0.1, 3, 31, 6, 8))
+                                             box_contact, 0.3, 0.1, 3, 31, 6, 8, 0.7))
             masked = np.empty((21, 9))
-            passes.mask(masked, gap, contact, 6, 8)
+            passes.mask(masked, gap, contact, 6, 8, 0.7)
             sums.append(passes.preconditioned(fields["displacement"][6:27, 8:17], masked, contact, 6, 8))
-            sums.append(passes.advance(flat[3], pressure.reshape(-1), flat[2], flat[0], flat[1], 0.2, 0.5))
+            sums.append(passes.advance(flat[3], pressure.reshape(-1), flat[2], flat[0], flat[1], 0.2, 0.5, 0.7))
             sums.append(passes.rescale(flat[3], pressure.reshape(-1), 1.3))
+            spectrum = fields["spectrum"].copy()
+            passes.multiply(spectrum, fields["multiplier"])
             results[compiled] = (np.concatenate([np.ravel(s) for s in sums]), gap, contact, direction, fresh, masked,
-                                 boxed)
+                                 spectrum, boxed)
     numpy_sums, compiled_sums = results[False][0], results[True][0]
     assert tuple(numpy_sums[3:5]) == tuple(compiled_sums[3:5]) == (4, 30)
     numpy_sums[2] = compiled_sums[2] = 0.0  # the numpy pass returns max u^2, the compiled one the bound sum u^2
@@ -197,7 +206,38 @@ def test_compiled_passes_equal_numpy_passes():
     rest = [np.delete(a, np.s_[3:31], axis=0) for a in (results[True][-1], results[True][3])]
     assert np.array_equal(*rest)      # the rows not walked, as they were
     assert results[False][2].any() and not results[False][2].all() and (results[False][4] > 0).any()
-    assert np.array_equal(results[False][5], np.where(contact[6:27, 8:17], gap[6:27, 8:17], 0.0))
+    assert np.array_equal(results[False][5], np.where(contact[6:27, 8:17], gap[6:27, 8:17] - 0.7, 0.0))
+    assert np.array_equal(results[False][6], fields["spectrum"] * fields["multiplier"])
+
+
+@pytest.mark.parametrize("compiled", PASSES)
+def test_gap_and_norm_passes_on_the_pressure_rows(compiled):
+    """The gap pass writes only the rows where the pressure may be positive (rows 3-30 of 37); the norm
+    pass counts the interpenetrating free cells of the other rows from the separation and the displacement,
+    and adds their u^2 to the bound: the same overlaps and norm as passes over the whole grid."""
+    rng = np.random.default_rng(5)
+    shape = (37, 23)
+    pressure = np.where(rng.random(shape) < 0.4, rng.random(shape), 0.0)
+    pressure[:4] = pressure[30:] = 0.0
+    base, displacement = rng.random(shape), rng.standard_normal(shape)
+    with _fused.use_compiled(compiled):
+        passes = _fused.passes()
+        results = []
+        for top, bottom in ((0, 37), (3, 31)):
+            gap, contact = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+            sums = passes.gap(base, displacement, pressure, gap, contact, top, bottom)
+            norm, overlaps, rest = passes.norm(gap, contact, base, displacement, 0.7, top, bottom)
+            results.append((sums, norm, overlaps, sums[2] + rest, gap, contact))
+    (whole, *rest_whole), (rows, *rest_rows) = results
+    assert whole[3:5] == rows[3:5] == (4, 30)
+    assert np.allclose(whole[:2], rows[:2], rtol=1e-13, atol=0)
+    assert np.isclose(rest_whole[0], rest_rows[0], rtol=1e-13, atol=0) and rest_whole[0] > 0     # norm
+    free = (base + displacement - 0.7 < 0) & (pressure == 0)
+    assert rest_whole[1] == rest_rows[1] == np.count_nonzero(free) and free[:3].any()          # overlaps
+    assert rest_rows[2] >= np.abs(displacement).max() ** 2                                      # the bound on max u^2
+    assert np.array_equal(rest_whole[4], rest_rows[4]) and not rest_rows[4][:3].any()           # the contact
+    assert np.isnan(rest_rows[3][:3]).all() and np.isnan(rest_rows[3][31:]).all()               # gap: not written
+    assert np.array_equal(rest_rows[3][3:31], (base + displacement)[3:31])
 
 
 def test_nan_separation_is_refused():
