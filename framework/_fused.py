@@ -11,12 +11,12 @@ returns its sums:
 =============  ===============================================================
 ``gap``        on the rows ``top .. bottom - 1`` (outside them the pressure
                vanishes): ``gap = base + u``, ``contact = p > 0``; the gap
-               summed over the contact, its cell count, ``sum u^2`` (with
-               :meth:`norm`'s, a bound on ``max u^2``), the first row holding
-               contact and the last plus one (-1, -1: none)
+               summed over the contact, its cell count, ``sum u^4`` (with
+               :meth:`norm`'s, ``sqrt`` of it bounds ``max u^2``), the first
+               row holding contact and the last plus one (-1, -1: none)
 ``norm``       ``sum (gap - shift)^2`` over the contact, whether a free cell
                interpenetrates (``gap < shift``; on the other rows, where
-               ``gap`` is not written, ``base + u < shift``), ``sum u^2`` on
+               ``gap`` is not written, ``base + u < shift``), ``sum u^4`` on
                those rows; it reads, writes nothing
 ``direction``  ``d = beta d + gap - shift`` on the contact, 0 elsewhere;
                ``sum d (gap - shift)``
@@ -146,7 +146,7 @@ class _Loops:
     """
 
     def gap(base, displacement, pressure, gap, contact, top, bottom):
-        total, count, square = 0.0, 0.0, 0.0
+        total, count, quartic = 0.0, 0.0, 0.0
         first, last = -1, -1
         columns = base.shape[1]
         for i in range(top, bottom):
@@ -160,16 +160,17 @@ class _Loops:
                 # selections, not branches: they keep the loop on vector registers
                 total += value if inside else 0.0
                 cells += 1.0 if inside else 0.0
-                square += u[j] * u[j]
+                square = u[j] * u[j]
+                quartic += square * square
             if cells > 0.0:
                 last = i + 1
                 if first < 0:
                     first = i
             count += cells
-        return total, count, square, first, last
+        return total, count, quartic, first, last
 
     def norm(gap, contact, base, displacement, shift, top, bottom):
-        norm, overlaps, square = 0.0, 0.0, 0.0
+        norm, overlaps, quartic = 0.0, 0.0, 0.0
         rows, columns = gap.shape
         for i in range(rows):
             if top <= i < bottom:
@@ -184,8 +185,9 @@ class _Loops:
                 for j in range(columns):
                     value = (b[j] + u[j]) - shift
                     overlaps += 1.0 if value < 0.0 else 0.0
-                    square += u[j] * u[j]
-        return norm, overlaps, square
+                    square = u[j] * u[j]
+                    quartic += square * square
+        return norm, overlaps, quartic
 
     def direction(direction, gap, contact, beta, shift):
         numerator = 0.0
@@ -292,7 +294,7 @@ class NumpyPasses:
         touched = np.flatnonzero(contact[rows].any(axis=1))
         first, last = (int(touched[0]) + top, int(touched[-1]) + top + 1) if touched.size else (-1, -1)
         return (float(gap[rows].sum(where=contact[rows])), float(np.count_nonzero(contact[rows])),
-                float(np.abs(displacement[rows]).max(initial=0.0)) ** 2, first, last)
+                float(np.abs(displacement[rows]).max(initial=0.0)) ** 4, first, last)
 
     @staticmethod
     def norm(gap, contact, base, displacement, shift, top, bottom):
@@ -301,11 +303,11 @@ class NumpyPasses:
         inside = np.where(contact[rows], centred, 0.0)
         # gap < shift on a free cell: the overlap is where the centred gap outside the contact set is negative
         overlaps = np.count_nonzero(centred - inside < 0.0)
-        square = 0.0
+        quartic = 0.0
         for other in (slice(0, top), slice(bottom, None)):
             overlaps += np.count_nonzero(base[other] + displacement[other] - shift < 0.0)
-            square = max(square, float(np.abs(displacement[other]).max(initial=0.0)) ** 2)
-        return _dot(inside, inside), float(overlaps), square
+            quartic = max(quartic, float(np.abs(displacement[other]).max(initial=0.0)) ** 4)
+        return _dot(inside, inside), float(overlaps), quartic
 
     @staticmethod
     def direction(direction, gap, contact, beta, shift):

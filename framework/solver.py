@@ -367,7 +367,7 @@ def _iterate(problem, start):
         displacement = apply(pressure)
         # the gap and the contact on the pressure's rows only; the contact is false elsewhere (it was set on rows
         # the pressure covered, which the next one covers too), the gap there is written when it is read
-        total, count, square, first, last = passes.gap(base, displacement, pressure, gap, contact, *support)
+        total, count, quartic, first, last = passes.gap(base, displacement, pressure, gap, contact, *support)
         current = (first, last) if count else held
         first_row, last_row = min(held[0], current[0]), max(held[1], current[1])
         span = slice(first_row * columns, last_row * columns)    # those rows in the flat views
@@ -384,7 +384,6 @@ def _iterate(problem, start):
             coefficients = (shift, 0.0, 0.0)
         delta = coefficients[0] if load_control else problem.approach
         norm, overlaps, rest = passes.norm(gap, contact, base, displacement, shift, *support)
-        square += rest
         last_check = change < options.tolerance or iteration == options.max_iterations or stalled > 2
         if overlaps or last_check:   # the re-entry and the residual read the gap on every row
             _complete(gap, base, displacement, *support)
@@ -397,8 +396,9 @@ def _iterate(problem, start):
                 break
         step, gain = 0.0, 1.0
         # as in the reference: no direction when the gap is flat to rounding over the contact set; the
-        # bound sum u^2 >= max u^2 spares the exact maximum unless the norm comes near that limit
-        if norm > 1e-24 * square * count or norm > (1e-12 * np.abs(displacement).max()) ** 2 * count:
+        # bound sqrt(sum u^4) >= max u^2 spares the exact maximum unless the norm comes near that limit
+        if (norm > 1e-24 * np.sqrt(quartic + rest) * count
+                or norm > (1e-12 * max(displacement.max(), -displacement.min())) ** 2 * count):
             box = whole if problem.window is None else problem.window(contact)
             preconditioned = None
             if problem.precondition is not None:

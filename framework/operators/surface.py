@@ -157,9 +157,11 @@ def box_around(support, planned=()):
     round a periodic axis: a support across its edge gets the whole axis.
     """
     whole = (slice(None), slice(None))
-    if not support.any():
+    rows = np.flatnonzero(support.any(axis=1))
+    if not rows.size:
         return whole
-    ranges = [np.flatnonzero(support.any(axis=1 - axis))[[0, -1]] for axis in (0, 1)]
+    # the columns from the rows that hold the support only
+    ranges = [rows[[0, -1]], np.flatnonzero(support[rows[0]:rows[-1] + 1].any(axis=0))[[0, -1]]]
     need = [int(last - first + 1) for first, last in ranges]
     shape = tuple(min(n, -(-e // 32) * 32) for e, n in zip(need, support.shape))
     fitting = [s for s in planned if s[0] >= need[0] and s[1] >= need[1]]
