@@ -14,6 +14,7 @@ from scipy import integrate
 import framework as fw
 from framework import materials
 from framework.operators.kernels import surface_displacement
+from framework.operators import rolling
 from framework.operators.rolling import SteadyRollingCompliance, exponential_filter, steady_rolling_kernel
 from framework.operators.surface import SurfaceCompliance
 
@@ -44,6 +45,40 @@ def test_filter_of_love_kernel_against_quadrature(length, x2):
     for j in (0, n - 3, n - 2, n - 1, n, 2 * n - 2):
         reference = filtered_by_quadrature(love_row(x2), offsets[j], length)
         assert values[j] == pytest.approx(reference, rel=1e-10, abs=1e-13 * values.max())
+
+
+@pytest.mark.parametrize("length", [0.01 * DX, 0.7 * DX, 5 * DX, 300 * DX])
+@pytest.mark.parametrize("cells", [1, 2, 5])
+def test_plain_rule_off_the_loaded_column_against_quadrature(length, cells):
+    """Off the loaded cell's column Love's kernel is analytic along the motion: the plain rules the steady
+    kernel takes there (16 nodes a piece one column off, 10 farther) meet the adaptive quadrature too."""
+    n, x2 = 12, cells * DX
+    nodes = rolling._OFF_COLUMN_NODES[min(cells, 2)]
+    values = exponential_filter(love_row(x2), DX, n, length, nodes=nodes)[:, 0]
+    offsets = np.arange(-(n - 1), n) * DX
+    for j in (0, n - 3, n - 2, n - 1, n, 2 * n - 2):
+        reference = filtered_by_quadrature(love_row(x2), offsets[j], length)
+        assert values[j] == pytest.approx(reference, rel=1e-10, abs=1e-13 * values.max())
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+def test_steady_kernel_with_plain_rules_equals_the_graded_one(monkeypatch, axis):
+    """The steady kernel assembled from the three column groups equals the one with the graded rule on every
+    column (checked against quadrature above) to 1e-12: the groups land on their columns."""
+    shape = (12, 9) if axis == 0 else (9, 12)
+    grid = fw.Grid(shape=shape, size=(shape[0] * DX, shape[1] * DX))
+    solid = materials.StandardLinearSolid(e_inf=1e6, e_1=9e6, tau=1.0, poisson=0.5)
+    velocity = (3 * DX, 0.0) if axis == 0 else (0.0, -3 * DX)
+    fast = steady_rolling_kernel(grid, solid.contact_compliance(), velocity)
+    love_along = rolling._love_along
+
+    def graded(grid, axis):
+        kernel, expand, groups = love_along(grid, axis)
+        assert [nodes for _, nodes in groups] == [None, 16, 10]
+        return kernel, expand, [(np.sort(np.concatenate([columns for columns, _ in groups])), None)]
+    monkeypatch.setattr(rolling, "_love_along", graded)
+    reference = steady_rolling_kernel(grid, solid.contact_compliance(), velocity)
+    assert np.abs(fast - reference).max() <= 1e-12 * np.abs(reference).max()
 
 
 def test_filter_limits():
