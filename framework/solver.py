@@ -230,9 +230,7 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
             # a doubly periodic grid, where the mean carries no displacement: that of the same load on an
             # open square of the grid's area (n cells of a side: n times a cell's own displacement)
             if diagonal is None:
-                unit = np.zeros_like(base_gap)
-                unit.flat[0] = 1.0
-                diagonal = float(apply(unit).flat[0])
+                diagonal = _self_compliance(apply, base_gap.shape)
             scale = pressure.flat[0] * diagonal * np.sqrt(base_gap.size)
         if scale > 0:
             pressure = np.where(base_gap <= touch + 4.0 * scale, pressure, 0.0)
@@ -274,6 +272,18 @@ def solve_normal(apply, base_gap, *, cell_area, load=None, approach=None, initia
     return solution
 
 
+def _self_compliance(apply, shape):
+    """Displacement of a cell under its own unit pressure, by one product (a convolution: any cell)."""
+    unit = np.zeros(shape)
+    unit.flat[0] = 1.0
+    return float(apply(unit).flat[0])
+
+
+def _corner(box):
+    """Row and column of the first cell of ``box`` (slices of the grid)."""
+    return tuple(0 if s.start is None else s.start for s in box)
+
+
 def _not_carried(load, offset, contact):
     return (f"the load {load:g} N at offset {tuple(offset) if offset is not None else (0, 0)} m cannot be carried: "
             f"the contact shrank to {int(contact.sum())} cells; the load centre must lie well inside the area "
@@ -301,9 +311,7 @@ class _Problem:
     def self_compliance(self):
         """Displacement of a cell under its own unit pressure (the operator is a convolution: any cell)."""
         if self.diagonal is None:
-            unit = np.zeros_like(self.base_gap)
-            unit.flat[0] = 1.0
-            self.diagonal = float(self.apply(unit).flat[0])
+            self.diagonal = _self_compliance(self.apply, self.base_gap.shape)
         return self.diagonal
 
     def entry(self, step):
@@ -383,7 +391,8 @@ def _iterate(problem, start):
             shift = total / count
             coefficients = (shift, 0.0, 0.0)
         delta = coefficients[0] if load_control else problem.approach
-        norm, overlaps, rest = passes.norm(gap, contact, base, displacement, shift, *support)
+        norm, overlaps, quartic_rest = passes.norm(gap, contact, base, displacement, shift, *support)
+        quartic += quartic_rest     # over the whole grid: sum u^4 (numpy passes: maxima of u^4), >= max u^4
         last_check = change < options.tolerance or iteration == options.max_iterations or stalled > 2
         if overlaps or last_check:   # the re-entry and the residual read the gap on every row
             _complete(gap, base, displacement, *support)
@@ -397,7 +406,7 @@ def _iterate(problem, start):
         step, gain = 0.0, 1.0
         # as in the reference: no direction when the gap is flat to rounding over the contact set; the
         # bound sqrt(sum u^4) >= max u^2 spares the exact maximum unless the norm comes near that limit
-        if (norm > 1e-24 * np.sqrt(quartic + rest) * count
+        if (norm > 1e-24 * np.sqrt(quartic) * count
                 or norm > (1e-12 * max(displacement.max(), -displacement.min())) ** 2 * count):
             box = whole if problem.window is None else problem.window(contact)
             preconditioned = None
@@ -408,7 +417,7 @@ def _iterate(problem, start):
                                                               load_control, shift)
             if preconditioned is not None:
                 gain = product / norm
-                top, left = (0 if s.start is None else s.start for s in around)
+                top, left = _corner(around)
                 numerator = passes.direction_box(direction, preconditioned, gap, contact,
                                                  product / norm_old if conjugate else 0.0, mean,
                                                  first_row, last_row, top, left, shift)
@@ -425,7 +434,7 @@ def _iterate(problem, start):
                 response -= modes.fit(response, contact[box], box)[0]
                 curvature = _dot(response, direction[box])
             else:
-                first, second = (0 if s.start is None else s.start for s in box)
+                first, second = _corner(box)
                 if box == whole:
                     first, response = first_row, response[first_row:last_row]
                 product, inside, outside = passes.curvature(response, direction, contact, first, second)
@@ -480,7 +489,7 @@ def _precondition(problem, passes, gap, contact, box, count, load_control, shift
     ``(None, 0, 0)`` when rounding leaves no positive product: the step then
     follows the gap, unpreconditioned, as the reference does.
     """
-    top, left = (0 if s.start is None else s.start for s in box)
+    top, left = _corner(box)
     buffer = problem.precondition.input(contact[box].shape)   # the masked gap goes straight into the operator's input
     passes.mask(buffer, gap, contact, top, left, shift)
     field = problem.precondition.apply(buffer, copy=False)
