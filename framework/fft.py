@@ -239,3 +239,56 @@ class RealFFTPair:
             self._inverse.execute()
         else:
             self.real_out[...] = scipy.fft.irfftn(self.spectrum, s=self.shape[-2:], axes=(-2, -1), workers=THREADS)
+
+
+class Transform:
+    """One planned transform between two fixed arrays: ``target <- DFT(source)`` over ``axes``, unnormalised.
+
+    ``source`` real and ``target`` complex: the real-to-complex transform (the last of ``axes`` halved);
+    complex to real: its inverse (``source`` is destroyed); complex to complex: forward, or backward with
+    ``inverse=True``. The backward transforms are not divided by the number of points (pyFFTW's raw
+    transforms; the reader folds the factor into a pass it makes anyway). With pyFFTW the plan is made
+    once (``effort``, an FFTW planner flag) and the input of a forward transform is left as it is, so a
+    zero padding written once stays; with scipy each call transforms anew with ``workers=THREADS``.
+    Both arrays should come from :func:`zeros` so that pyFFTW can use its vector instructions.
+    """
+
+    def __init__(self, source, target, axes, inverse=False, effort="FFTW_MEASURE"):
+        self.source, self.target, self.axes = source, target, tuple(axes)
+        real_in, real_out = not np.iscomplexobj(source), not np.iscomplexobj(target)
+        self.kind = "r2c" if real_in else ("c2r" if real_out else ("c2c-inverse" if inverse else "c2c"))
+        self.backend = _backend
+        if _backend == "pyfftw":
+            flags = [effort] + (["FFTW_DESTROY_INPUT"] if self.kind == "c2r" else [])
+            saved = np.array(source, copy=True)     # planning with FFTW_MEASURE scribbles on the buffers
+            direction = "FFTW_BACKWARD" if self.kind in ("c2r", "c2c-inverse") else "FFTW_FORWARD"
+            self._plan = pyfftw.FFTW(source, target, axes=self.axes, direction=direction, flags=flags,
+                                     threads=THREADS)
+            source[...] = saved
+
+    def __call__(self):
+        if self.backend == "pyfftw":
+            self._plan.execute()
+            return
+        axes, target = self.axes, self.target
+        if self.kind == "r2c":
+            target[...] = scipy.fft.rfftn(self.source, axes=axes, workers=THREADS)
+        elif self.kind == "c2c":
+            target[...] = scipy.fft.fftn(self.source, axes=axes, workers=THREADS)
+        elif self.kind == "c2c-inverse":
+            target[...] = scipy.fft.ifftn(self.source, axes=axes, workers=THREADS, norm="forward")
+        else:
+            shape = [target.shape[a] for a in axes]
+            target[...] = scipy.fft.irfftn(self.source, s=shape, axes=axes, workers=THREADS, norm="forward")
+
+
+def zeros(shape, dtype=float):
+    """A zeroed array of ``shape`` aligned for pyFFTW's vector instructions (a plain one without pyFFTW)."""
+    if pyfftw is not None:
+        return pyfftw.zeros_aligned(shape, dtype=dtype)
+    return np.zeros(shape, dtype=dtype)
+
+
+def even_size(n):
+    """The smallest even length ``>= n`` whose half is a fast transform length (5-smooth)."""
+    return 2 * scipy.fft.next_fast_len((int(n) + 1) // 2, real=True)

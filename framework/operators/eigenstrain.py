@@ -24,12 +24,12 @@ Strains are stored as ``(..., 6)`` arrays in Voigt order xx yy zz yz xz xy with 
 (``e_23``, not ``2 e_23``).
 """
 import numpy as np
-import scipy.fft
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from ..grid import Grid
-from .stress import _PHASE, SubsurfaceStress
+from . import parity
+from ._box_loops import loops
+from .box_surface import BoxSurface
 
 #: The surface patch of the Boussinesq correction reaches this many box-bottom depths beyond the box.
 PATCH_DEPTHS = 4.0
@@ -266,16 +266,6 @@ def strain_at_points(points, centres, eigenstrain, half, poisson, chunk=200_000,
     return out
 
 
-def _wrapped(values):
-    """Kernel samples at offsets ``-(m-1) .. m-1`` per axis, in DC-FFT wrap-around order on ``2m``."""
-    padded = np.pad(values, [(1, 0)] * values.ndim)
-    return np.fft.ifftshift(padded)
-
-
-def _to_components_first(field):
-    return np.ascontiguousarray(np.moveaxis(field, -1, 0))
-
-
 def _stiffness_coefficients(poisson):
     """``{(a, b): {key: weight}}``: the entries ``a <= b`` of ``C : D`` as combinations of the potentials."""
     out = {(a, b): {} for b in range(6) for a in range(b + 1)}
@@ -288,15 +278,44 @@ def _stiffness_coefficients(poisson):
     return out
 
 
+def _traction_coefficients(poisson):
+    """``{key: (6,) weights}``: ``2 s33`` (unit modulus) per unit eigenstrain component (tensor shears) as
+    combinations of the potentials. ``C : D`` is symmetric in Mandel's basis, so ``s33`` per unit
+    component ``c`` is the ``c``-th stress of a unit ``e*_33`` (Mandel weights squared = CONTRACTION)."""
+    out = {}
+    for key in KEYS:
+        unit = {k: float(k == key) for k in KEYS}
+        out[key] = 2.0 * stress_from_strain(strain_from_potentials(unit, np.eye(6)[2], poisson), poisson) * CONTRACTION
+    return out
+
+
+def key_parities(key):
+    """Parity (+1 even, -1 odd) along x1, x2, x3 of the potential derivative ``key``."""
+    return np.array([1 - 2 * (key.count(axis) % 2) for axis in range(3)])
+
+
+#: The 21 entries ``a <= b`` of ``C : D``, in the order of the stored spectra.
+ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
+
+#: Boxes of more FFT points than this plan their 3-D transforms by estimate (FFTW_MEASURE would take
+#: seconds); smaller ones measure (a 60 x 64 x 60 pair: 1.4 ms measured, 2.5 ms estimated).
+MEASURED_FFT_POINTS = 2 ** 21
+
+
 class HalfSpaceEigenstrain:
     """Strain in a box of cuboids of the half-space caused by eigenstrains in the same box.
 
     The box is a block of the grid's cuboid lattice (surface cells times layers); the
-    kernels span the box only, so memory and time follow the box, not the grid: about
-    2 kB per cuboid of the box for the 21 + 21 kernel spectra of the infinite-space and
-    mirror terms, plus the surface-traction kernels (6 per layer of the box on a surface
-    patch reaching :data:`PATCH_DEPTHS` times the box's bottom depth around it, clipped to
-    the grid). The surface displacement (Betti) covers the whole grid.
+    kernels span the box only, so memory and time follow the box, not the grid. A product
+    is six forward and six inverse real 3-D FFTs of the box padded to ``fft_shape`` (even
+    sizes of at least twice the box, with small prime factors), one compiled pass over the
+    spectra (:mod:`framework.operators._box_loops`), and the Boussinesq correction's surface
+    transforms (:class:`~framework.operators.box_surface.BoxSurface`). Memory: the 21 + 21
+    kernel spectra of the infinite-space and mirror terms are even or odd in ``q1`` and
+    ``q2`` (and, for the first, in ``q3``), so an eighth and a quarter of them are stored
+    (36 bytes per point of the padded box, about 290 bytes per box cuboid), plus the six
+    spectra of a product (16 bytes per point, 8 per padded... 6 x 16 / 2 per point) and the
+    surface kernels (2 x 6 per layer, a quarter of the padded surface grid each).
 
     Parameters
     ----------
@@ -316,9 +335,13 @@ class HalfSpaceEigenstrain:
         operator's spectrum then lies in [0, 1] as the continuous one's does. Applies to the
         infinite-space and mirror terms; the Boussinesq correction (smooth in the box) stays
         sampled at the centres.
+    starts : sequence of (int, int), optional
+        Every ``(x1, x2)`` start the box will take when it moves (:meth:`move`; a rolling
+        run); by default anywhere on the grid with ``whole_patch``, else ``start`` alone. The
+        surface transforms are sized for them once.
     """
 
-    def __init__(self, grid, poisson, start, shape, whole_patch=False, average=True):
+    def __init__(self, grid, poisson, start, shape, whole_patch=False, average=True, starts=None):
         if any(grid.periodic):
             raise ParameterError(f"the half-space eigenstrain operator needs an open grid, got periodic={grid.periodic}")
         if not grid.layers:
@@ -334,20 +357,13 @@ class HalfSpaceEigenstrain:
         self.grid, self.poisson, self.start, self.shape = grid, float(poisson), start, shape
         self.spacing = (*grid.spacing, grid.layer_thickness)
         self.average = average
-        cell = self.spacing if average else None
         self.depths = grid.x3[start[2]:start[2] + shape[2]]
-        self.fft_shape = tuple(2 * m for m in shape)
-        faces = [(np.arange(-m, m) + 0.5) * h for m, h in zip(shape, self.spacing)]
-        # Each kernel is even or odd in each offset with an even number of odd axes: real spectra.
-        self._direct = self._stiffness_spectra(potential_kernel_items(*faces, cell=cell), real=True)
-        dz = self.spacing[2]
-        mirror_faces = (2 * start[2] + np.arange(2 * shape[2]) + 0.5) * dz
-        self._mirror = self._stiffness_spectra(potential_kernel_items(faces[0], faces[1], mirror_faces, cell=cell),
-                                               real=False)
-        # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
-        # field, a reversal of the other two wavenumbers, a conjugation and a phase in q3.
-        q3 = np.arange(shape[2] + 1)
-        self._flip_phase = np.exp(-2j * np.pi * q3 * (shape[2] - 1) / self.fft_shape[2])
+        self.fft_shape = tuple(fft.even_size(2 * m) for m in shape)
+        self._direct, self._mirror = self._box_spectra(self.spacing if average else None)
+        self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
+        # an entry's parity in x1 and x2 is the product of its two components' parities
+        self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
+                               for axis in range(2))
         # The Boussinesq correction works on a surface patch around the box: the traction the
         # eigenstrains leave decays like 1/r^3, and beyond PATCH_DEPTHS times the box's bottom depth
         # its stress at the box is below ~1e-3 of the correction (which is itself small unless the
@@ -357,63 +373,76 @@ class HalfSpaceEigenstrain:
         high = [min(grid.shape[a], start[a] + shape[a] + reach[a]) for a in range(2)]
         if whole_patch:        # a box that moves over the grid (rolling) keeps the grid as its patch
             low, high = [0, 0], list(grid.shape)
+            if starts is None:
+                starts = [(0, 0), (grid.shape[0] - shape[0], grid.shape[1] - shape[1])]
         self.patch = tuple(slice(lo, hi) for lo, hi in zip(low, high))
-        self._patch_grid = Grid(shape=(high[0] - low[0], high[1] - low[1]),
-                                size=((high[0] - low[0]) * grid.spacing[0], (high[1] - low[1]) * grid.spacing[1]))
-        self._traction = self._traction_spectra()
-        self._stress = SubsurfaceStress(self._patch_grid, poisson)
-        self._surface_stress = None
-        self._love = None
-        self._phase = None
+        self._starts = [tuple(start[:2])] if starts is None else [tuple(int(c) for c in s[:2]) for s in starts]
+        self._surface = BoxSurface(grid, poisson, self.patch, start, shape, traction=self._traction, starts=self._starts)
+        self._grid_surface = None
+        self._transforms = None
 
-    def _stiffness_spectra(self, items, real):
-        """Spectra of the 21 entries ``a <= b`` of ``C : D`` (unit Young's modulus, Mandel basis).
+    def _box_spectra(self, cell):
+        """Real factors of the 21 infinite-space spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` and the complex
+        mirror spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit Young's modulus, Mandel basis).
 
-        ``C : D`` is symmetric (it is ``C : Gamma : C``, Gamma the Green operator), so 21
-        spectra carry the 36 products, and a product costs 36 multiply-adds. Each entry is
-        a fixed combination of the potentials' derivatives: they are accumulated one
-        derivative at a time (21 lattice arrays in memory, not 42), then transformed.
+        Each entry is a fixed combination of the potentials' derivatives, each even or odd in each
+        offset: one derivative at a time is evaluated on the offsets ``>= 0`` of x1 and x2 (and x3 for
+        the infinite-space term), transformed by :func:`~framework.operators.parity.half_spectrum` and
+        added to the entries it enters (a quarter of the lattice, and no lattice array per entry).
         """
+        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
+        # field, a reversal of the other two wavenumbers, a conjugation and this phase in q3.
+        flip = np.exp(-2j * np.pi * np.arange(n3 // 2 + 1) * (m3 - 1) / n3)
+        half_faces = [(np.arange(m + 1) - 0.5) * h for m, h in zip(self.shape, self.spacing)]
+        mirror_faces = (2 * self.start[2] + np.arange(2 * m3) + 0.5) * self.spacing[2]
         coefficients = _stiffness_coefficients(self.poisson)
-        kernels = {}
-        for key, values in items:
-            for entry, weights in coefficients.items():
-                weight = weights[key]
-                if weight == 0.0:
-                    continue
-                if entry in kernels:
-                    kernels[entry] += weight * values
+        size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1, n3 // 2 + 1)
+        direct, mirror = np.zeros(size), np.zeros(size, dtype=complex)
+        place = (np.arange(2 * m3 - 1) - (m3 - 1)) % n3      # the mirror kernel's sums of depths, centred
+        for faces3, target in ((half_faces[2], direct), (mirror_faces, mirror)):
+            for key, values in potential_kernel_items(half_faces[0], half_faces[1], faces3, cell=cell):
+                parities = key_parities(key)
+                spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
+                spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
+                if target is direct:
+                    spectrum = parity.half_spectrum(spectrum, parities[2], n3, axis=2) * parity.phase(parities).real
                 else:
-                    kernels[entry] = weight * values
-            del values
-        spectra = {}
-        for entry in list(kernels):
-            spectrum = fft.rfft3(_wrapped(kernels.pop(entry)))
-            spectra[entry] = np.ascontiguousarray(spectrum.real) if real else spectrum
-        return spectra
+                    wrapped = np.zeros(spectrum.shape[:2] + (n3,))
+                    wrapped[:, :, place] = spectrum
+                    spectrum = np.fft.rfft(wrapped, axis=2) * (parity.phase(parities[:2]) * flip)
+                del values
+                for e, entry in enumerate(ENTRIES):
+                    weight = coefficients[entry][key]
+                    if weight != 0.0:
+                        target[e] += weight * spectrum
+        return direct, mirror
 
-    def _traction_spectra(self):
-        """Spectra ``(m3, 6, 2 n1, n2 + 1)`` of ``s33`` at the surface (unit modulus) per layer and component."""
-        (n1, n2), m3, dz = self._patch_grid.shape, self.shape[2], self.spacing[2]
-        faces1 = (np.arange(-n1, n1) + 0.5) * self.spacing[0]
-        faces2 = (np.arange(-n2, n2) + 0.5) * self.spacing[1]
+    def _traction(self, faces1, faces2):
+        """``2 s33`` at the surface ``(F1, F2, m3, 6)`` per unit eigenstrain component of a cuboid of each layer
+        (top-down), unit modulus, target minus source between the faces ``faces1``, ``faces2`` [m]."""
+        m3, dz, top = self.shape[2], self.spacing[2], self.start[2]
         # Target on the surface, sources below: x3 - x3' runs from -(bottom) up to -(top of the box).
-        top = self.start[2]
         faces3 = -(top + m3 - np.arange(m3 + 1)) * dz
         if top == 0:
             faces3[-1] = -1e-12 * dz  # the surface itself: s33 is continuous there (traction)
-        potentials = potential_kernels(faces1, faces2, faces3)
-        nu = self.poisson
-        # C : D is symmetric in Mandel's basis, so s33 per unit eigenstrain component c is the c-th
-        # stress of a unit e*_33: one column instead of six (Mandel weights squared = CONTRACTION).
-        column = stress_from_strain(strain_from_potentials(potentials, np.eye(6)[2], nu), nu) * CONTRACTION
-        del potentials
-        spectra = np.empty((m3, 6, 2 * n1, n2 + 1), dtype=complex)
-        for c in range(6):
-            s33 = np.pad(column[..., c], [(1, 0), (1, 0), (0, 0)])   # (2n1-1, 2n2-1, m3), layers bottom-up
-            s33 = np.fft.ifftshift(s33, axes=(0, 1))[:, :, ::-1]   # layers top-down, wrap-around order
-            spectra[:, c] = fft.rfft2(np.ascontiguousarray(np.moveaxis(s33, -1, 0)))
-        return spectra
+        weights = _traction_coefficients(self.poisson)
+        out = np.zeros((len(faces1) - 1, len(faces2) - 1, m3, 6))
+        for key, values in potential_kernel_items(faces1, faces2, faces3):
+            out += values[:, :, ::-1, None] * weights[key]            # layers bottom-up -> top-down
+        return out
+
+    def _plans(self):
+        """The 3-D transforms of a product and their buffers (made at the first product)."""
+        if self._transforms is None:
+            n1, n2, n3 = self.fft_shape
+            effort = "FFTW_MEASURE" if n1 * n2 * n3 <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
+            real_in, real_out = fft.zeros(self.fft_shape), fft.zeros(self.fft_shape)
+            spectra = fft.zeros((6, n1, n2, n3 // 2 + 1), complex)
+            forward = [fft.Transform(real_in, spectra[c], axes=(0, 1, 2), effort=effort) for c in range(6)]
+            inverse = [fft.Transform(spectra[c], real_out, axes=(0, 1, 2), effort=effort) for c in range(6)]
+            self._transforms = (real_in, real_out, spectra, forward, inverse)
+        return self._transforms
 
     def _check(self, eigenstrain):
         expected = (*self.shape, 6)
@@ -421,67 +450,38 @@ class HalfSpaceEigenstrain:
             raise ShapeError(f"eigenstrain has shape {np.shape(eigenstrain)}, the operator's box is {expected}")
         return np.asarray(eigenstrain, dtype=float)
 
-    def _shift(self):
-        """Phase ``exp(-2 pi i k . f / N)`` of the footprint's offset ``f`` in the patch's padded arrays.
-
-        Built when the box moves, not at every product (its conjugate shifts the other way).
-        """
-        f1, f2 = (s.start for s in self._footprint)
-        if self._phase is None or self._phase[0] != (f1, f2):
-            big1, big2 = self._stress._convolution.fft_shape
-            k1 = np.fft.fftfreq(big1) * f1
-            k2 = np.arange(big2 // 2 + 1) / big2 * f2
-            self._phase = ((f1, f2), np.exp(-2j * np.pi * (k1[:, None] + k2[None, :])))
-        return self._phase[1]
-
     def surface_traction(self, eigenstrain):
         """Pressure ``2 s33(x1, x2, 0)`` [Pa per unit Young's modulus] over the surface patch ``patch``.
 
         The normal stress that the eigenstrains and their mirror image leave on the
         surface, as the compressive pressure that the Boussinesq correction applies.
         """
-        eigenstrain = self._check(eigenstrain)
-        n1, n2 = self._patch_grid.shape
-        big1, big2 = self._stress._convolution.fft_shape
-        layers = np.transpose(eigenstrain, (2, 3, 0, 1))                       # (m3, 6, m1, m2)
-        # The layers are zero outside the box's footprint: transform its m1 rows only along x2, then
-        # every column along x1 (the patch's full 2-D transforms spent most of a product on zeros);
-        # the footprint's place in the patch is one phase on the sum. Every layer and component at once.
-        rows = scipy.fft.rfft(layers, n=big2, axis=-1, workers=fft.THREADS)
-        spectra = scipy.fft.fft(rows, n=big1, axis=-2, workers=fft.THREADS, overwrite_x=True)
-        total = np.einsum("lcij,lcij->ij", self._traction, spectra) * self._shift()
-        return 2.0 * fft.irfft2(total, (big1, big2))[:n1, :n2]
+        return self._surface.field(self._surface.surface(self._check(eigenstrain), "traction"))
 
-    def _correction(self, pressure):
-        """Stress ``(m1, m2, m3, 6)`` of the Boussinesq field of ``pressure`` (on the patch) in the box."""
-        if self._love is None:   # Love's kernels at the box's depths, stacked once
-            self._love = np.stack([self._stress._kernel_spectrum(float(depth)) * _PHASE for depth in self.depths])
-        convolution = self._stress._convolution
-        m1, m2 = self.shape[:2]
-        # Shifted so that the footprint starts at the origin; only its m1 rows go on to the x2 transform.
-        spectrum = convolution.transform(pressure) * np.conj(self._shift())
-        columns = scipy.fft.ifft(self._love * spectrum, axis=-2, workers=fft.THREADS, overwrite_x=True)[..., :m1, :]
-        full = scipy.fft.irfft(columns, n=convolution.fft_shape[1], axis=-1, workers=fft.THREADS)
-        return np.transpose(full[..., :m2], (2, 3, 0, 1))
+    def _grid_map(self):
+        """The surface map over the whole grid (the patch's when the patch is the grid)."""
+        if self.patch == (slice(0, self.grid.shape[0]), slice(0, self.grid.shape[1])):
+            return self._surface
+        if self._grid_surface is None:
+            region = (slice(0, self.grid.shape[0]), slice(0, self.grid.shape[1]))
+            self._grid_surface = BoxSurface(self.grid, self.poisson, region, self.start, self.shape,
+                                            starts=self._starts)
+        return self._grid_surface
 
     def surface_displacement(self, eigenstrain):
-        """Normal surface displacement ``u3`` [m per unit strain... i.e. m] over the grid, positive into the solid.
+        """Normal surface displacement ``u3`` [m] over the grid, positive into the solid.
 
-        Betti's reciprocal theorem with Love's pressure-to-stress coefficients
-        (:meth:`SubsurfaceStress.transpose`); it does not depend on the modulus.
+        Betti's reciprocal theorem with Love's pressure-to-stress coefficients (the
+        transpose of :meth:`pressure_stress`); it does not depend on the modulus.
         """
-        eigenstrain = self._check(eigenstrain)
-        n1, n2 = self.grid.shape
-        if self._surface_stress is None:
-            self._surface_stress = SubsurfaceStress(self.grid, self.poisson)
-        fields = np.zeros((n1, n2, self.shape[2], 6))
-        fields[self.box[:2]] = eigenstrain * CONTRACTION
-        return self.spacing[2] * self._surface_stress.transpose(fields, self.depths)
+        surface = self._grid_map()
+        return self.spacing[2] * surface.field(surface.surface(self._check(eigenstrain) * CONTRACTION, "betti"))
 
-    @property
-    def _footprint(self):
-        """Slices of the box's surface cells in the patch's arrays."""
-        return tuple(slice(s - p.start, s - p.start + m) for s, p, m in zip(self.start, self.patch, self.shape))
+    def pressure_stress(self, pressure):
+        """Stress ``(m1, m2, m3, 6)`` [Pa] at the box's cuboid centres of a surface pressure ``(n1, n2)`` [Pa]
+        on the grid (Love's coefficients; the homogeneous half-space)."""
+        surface = self._grid_map()
+        return surface.box_stress(surface.spectrum(pressure))
 
     @property
     def box(self):
@@ -492,7 +492,8 @@ class HalfSpaceEigenstrain:
         """Move the box by ``cells = (c1, c2)`` whole surface cells (the material moved under a rolling body).
 
         The kernels do not depend on where the box lies on the grid, only the footprint
-        does; the surface patch must be the whole grid (``whole_patch=True``).
+        does; the surface patch must be the whole grid (``whole_patch=True``) and the new
+        place one of ``starts``' range.
         """
         if not any(cells):
             return
@@ -504,29 +505,28 @@ class HalfSpaceEigenstrain:
             if start[axis] < 0 or start[axis] + self.shape[axis] > self.grid.shape[axis]:
                 raise ParameterError(f"move: the box would leave the grid along x{axis + 1} (cuboids {start[axis]} .. "
                                      f"{start[axis] + self.shape[axis] - 1} of 0 .. {self.grid.shape[axis] - 1})")
+        self._surface.move(start)
         self.start = start
 
     def strain(self, eigenstrain):
         """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
         eigenstrain = self._check(eigenstrain)
-        m1, m2, m3 = self.shape
-        padded = np.zeros((6, *self.fft_shape))
-        padded[:, :m1, :m2, :m3] = _to_components_first(eigenstrain * MANDEL)
-        direct = fft.rfft3(padded)
-        reversed_ = np.roll(direct[:, ::-1, ::-1, :], 1, axis=(1, 2))
-        mirror = np.conj(reversed_) * self._flip_phase * MIRROR[:, None, None, None]
-        stress = np.zeros_like(direct)
-        term = np.empty_like(direct[0])         # one work array: no temporaries in the 72 products
-        for spectra, source in ((self._direct, direct), (self._mirror, mirror)):
-            for (a, b), kernel in spectra.items():
-                stress[a] += np.multiply(kernel, source[b], out=term)
-                if a != b:
-                    stress[b] += np.multiply(kernel, source[a], out=term)
-        infinite = fft.irfft3(stress, self.fft_shape)[:, :m1, :m2, :m3]
-        infinite = np.moveaxis(infinite, 0, -1) / MANDEL
-        pressure = self.surface_traction(eigenstrain)
-        correction = self._correction(pressure)
-        return strain_from_stress(infinite + correction, self.poisson)
+        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        real_in, real_out, spectra, forward, inverse = self._plans()
+        for c in range(6):
+            np.multiply(eigenstrain[..., c], MANDEL[c], out=real_in[:m1, :m2, :m3])
+            forward[c]()
+        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
+        stress = np.empty((m1, m2, m3, 6))
+        scale = 1.0 / (n1 * n2 * n3)
+        for c in range(6):
+            inverse[c]()
+            np.multiply(real_out[:m1, :m2, :m3], scale / MANDEL[c], out=stress[..., c])
+        surface = self._surface
+        # the traction is kept on the patch only: back to the surface, cut, and transformed again
+        traction = surface.spectrum(surface.field(surface.surface(eigenstrain, "traction")))
+        stress += surface.box_stress(traction)
+        return strain_from_stress(stress, self.poisson)
 
     def strain_at(self, points, eigenstrain, average=False):
         """Total strain ``(n, 6)`` at arbitrary points ``(n, 3)`` [m] of the half-space, by direct sums.
@@ -557,4 +557,3 @@ class HalfSpaceEigenstrain:
             stress[i] = pressure.ravel() @ subsurface_stress((y1 - x1).ravel(), (y2 - x2).ravel(), y3,
                                                              half1=dx1 / 2, half2=dx2 / 2, poisson=self.poisson)
         return strain + strain_from_stress(stress, self.poisson)
-
