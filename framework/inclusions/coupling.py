@@ -26,7 +26,6 @@ from ..errors import ConvergenceError
 from ..history import HereditarySum, PronyRecursion, translate
 from ..materials import ComplianceSeries, Elastic
 from ..operators.eigenstrain import MANDEL, stress_from_strain, strain_from_stress
-from ..operators.stress import SubsurfaceStress
 
 
 def matrix_series(matrix):
@@ -67,14 +66,12 @@ class ContactCoupling:
 
     The contact pressure's strain at the box (Love's coefficients, the matrix's
     compliance) is the applied strain of the inhomogeneities; their eigenstrains
-    displace the surface (Betti), which enters the next contact solve's gap.
-    Fixed-point iteration with Anderson mixing, each solve warm-started from the
-    last, until the eigenstrains' surface displacement changes by less than
-    ``tolerance`` times the largest surface displacement. The map is a contraction when the
-    inhomogeneities' effect on the surface is smaller than the contact's own
-    compliance, i.e. always for inhomogeneities below the surface in practice;
-    a slow case raises :class:`~framework.errors.ConvergenceError` after
-    ``max_couplings``.
+    displace the surface (Betti), which enters the contact solve's gap. One sequence
+    of iterates solves both (:meth:`solve`), each iterate one eigenstrain-operator
+    product, until the eigenstrains' surface displacement changes by less than
+    ``tolerance`` times the largest surface displacement and the equivalent-inclusion
+    residual is below ``inclusion_tolerance`` of its right-hand side. A slow case
+    raises :class:`~framework.errors.ConvergenceError` after ``max_couplings``.
 
     Parameters
     ----------
@@ -83,19 +80,18 @@ class ContactCoupling:
     tolerance : float
         Relative change of the eigenstrains' surface displacement at convergence.
     inclusion_tolerance : float, optional
-        The tightest GMRES tolerance of the equivalent-inclusion solves (default a tenth of
-        ``tolerance``); a solve that stalls short of it is accepted when its residual is below
-        ten times ``tolerance``.
+        The equivalent-inclusion residual at convergence, relative to its right-hand side
+        (default ten times ``tolerance``, what the former nested solves accepted: the
+        eigenstrains' error then moves the surface by about ``tolerance`` of its displacement).
     max_couplings : int
-        Fixed-point iterations before giving up.
+        Iterations before giving up (one product each).
     """
 
     def __init__(self, problem, tolerance=1e-8, inclusion_tolerance=None, max_couplings=100, history="recursive"):
         self.problem = problem
         if inclusion_tolerance is None:
-            inclusion_tolerance = 0.1 * tolerance
+            inclusion_tolerance = 10.0 * tolerance
         self.tolerance, self.inclusion_tolerance, self.max_couplings = tolerance, inclusion_tolerance, max_couplings
-        self._stress = SubsurfaceStress(problem.grid, problem.matrix.poisson)
         integrator = PronyRecursion if history == "recursive" else HereditarySum
         creep, relaxation = matrix_series(problem.matrix)
         shape = (*problem.shape, 6)
@@ -125,11 +121,12 @@ class ContactCoupling:
         self._creep.commit(self._time, step.contact_stress)
         self._relaxation.commit(self._time, step.field)
 
-    def _fields(self, pressure, initial, initial_disturbance, tolerance):
-        """Eigenstrains, total stress, the fields to commit, and the inner solve's residual and success."""
+    def _right(self, pressure):
+        """The equivalent-inclusion system's right-hand side (Mandel, ``(N, 6)``) for the contact pressure, with
+        the contact's stress at the box, the matrix's stress and the strain without inhomogeneities."""
         problem, nu = self.problem, self.problem.matrix.poisson
         inner = problem.problem
-        contact_stress = self._stress.apply(pressure, problem.operator.depths)[problem.box[:2]]
+        contact_stress = problem.operator.pressure_stress(pressure)
         creep = self._compliance * contact_stress
         if self._creep_history is not None:
             creep = creep + self._creep_history
@@ -139,57 +136,89 @@ class ContactCoupling:
         cells = inner.cells
         right = (matrix_stress[cells] * MANDEL
                  - inner.per_material(inner.stiffness, strain0[cells] * MANDEL))
-        # a Krylov solve that stalls short of a tight inner tolerance is judged by the coupling's own test
-        eigenstrain, disturbance, _, residual, success = inner.solve_for(
-            right, initial=initial, initial_disturbance=initial_disturbance, tolerance=tolerance, max_iterations=200,
-            raise_on_failure=False)
+        return right, contact_stress, matrix_stress, strain0
+
+    def _outputs(self, eigenstrain, disturbance, matrix_stress, strain0):
+        """The total stress on the box and the field ``C_bar (D[e*] - e*)`` the relaxation remembers."""
+        inner, nu = self.problem.problem, self.problem.matrix.poisson
         field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
         stress = matrix_stress + self._modulus * field
         strain = strain0 + disturbance
-        stress[cells] = inner.per_material(inner.stiffness, strain[cells] * MANDEL) / MANDEL
-        return eigenstrain, disturbance, stress, contact_stress, field, residual, success
+        stress[inner.cells] = inner.per_material(inner.stiffness, strain[inner.cells] * MANDEL) / MANDEL
+        return stress, field
 
     def solve(self, solve_contact):
         """Converge one step; ``solve_contact(extra_displacement)`` solves the contact with that displacement added.
 
-        Call :meth:`prepare` before and :meth:`commit` (with the returned step) after. The
-        fixed point ``u -> F(u)`` (``u`` the eigenstrains' surface displacement) is
-        accelerated by Anderson mixing over the last :data:`ANDERSON_DEPTH` iterates (Walker &
-        Ni 2011), and each equivalent-inclusion solve is inexact: to 1 % of the current
-        change, between ``inclusion_tolerance`` and 1e-3 (Krylov iterations are not spent on
-        eigenstrains the next coupling replaces).
+        Call :meth:`prepare` before and :meth:`commit` (with the returned step) after. One
+        sequence of iterates ``e_k`` (the eigenstrains, Mandel values on the inhomogeneities'
+        cuboids) solves the contact and the inhomogeneities together: each iterate's surface
+        displacement ``B e_k`` is given to the contact, whose pressure makes the right-hand side
+        ``b_k``; the preconditioned residual ``z_k = M (b_k - A e_k)`` is one product ``D[z_k]``,
+        and Anderson mixing (Walker & Ni 2011) over the last :data:`ANDERSON_DEPTH` iterates gives
+        the next. On a linear problem this is GMRES with ``M`` (Fourier and recycled directions,
+        :class:`~framework.inclusions.equivalent.EquivalentInclusionProblem`); the contact's
+        nonlinearity (cells entering or leaving) is a small change of ``b`` that the mixing absorbs.
+        The strains ``D[e_k]`` and displacements ``B e_k`` are combined as the iterates are, so a
+        product per iteration is all the operator costs (one more when the box has moved). The
+        step has converged when the eigenstrains' surface displacement changes by at most
+        ``tolerance`` times the surface displacement and the equivalent-inclusion residual is
+        below ``inclusion_tolerance`` of its right-hand side.
         """
         problem = self.problem
-        displacement = self.displacement
-        residuals, images = [], []
-        change = 1.0
+        inner, operator = problem.problem, problem.operator
+        shape = (*problem.shape, 6)
+        if self.eigenstrain is None:
+            values, disturbance = np.zeros((inner.material.size, 6)), np.zeros(shape)
+        else:
+            values = np.asarray(self.eigenstrain)[inner.cells] * MANDEL
+            disturbance = self.disturbance
+            if disturbance is None:
+                disturbance = operator.strain(inner.box_field(values))
+                inner.products += 1
+        displacement = operator.surface_displacement(inner.box_field(values))
+        deflation = inner.recycled.preconditioner(inner._coupling_images(), inner.young)
+        history = []            # (G, D[G], B G, f) of the last iterates
+        directions, strains = [], []
+        previous = None
         for count in range(1, self.max_couplings + 1):
             contact = solve_contact(displacement)
-            tolerance = min(1e-3, max(self.inclusion_tolerance, 1e-2 * change))
-            eigenstrain, self.disturbance, stress, contact_stress, field, inner_residual, inner_success = self._fields(
-                contact.pressure, self.eigenstrain, self.disturbance, tolerance)
-            self.eigenstrain = eigenstrain
-            image = problem.operator.surface_displacement(eigenstrain)
-            residual = image - displacement
-            scale = max(np.abs(contact.displacement).max(), np.abs(image).max(), 1e-300)
-            change = float(np.abs(residual).max() / scale)
-            if change <= self.tolerance and (inner_success or inner_residual <= 10 * self.tolerance):
-                self.displacement = image
-                # the contact saw ``displacement``; the eigenstrains answer its pressure: consistent to the tolerance
+            right, contact_stress, matrix_stress, strain0 = self._right(contact.pressure)
+            residual = right - inner._apply(values, disturbance)
+            scale = max(np.abs(contact.displacement).max(), np.abs(displacement).max(), 1e-300)
+            change = 1.0 if previous is None else float(np.abs(displacement - previous).max() / scale)
+            size = np.linalg.norm(right)
+            relative = float(np.linalg.norm(residual) / size) if size > 0 else 0.0
+            if relative <= self.inclusion_tolerance and (change <= self.tolerance or relative == 0.0):
+                inner.recycled.add(directions, strains, inner._coupling_images(), inner.young)
+                eigenstrain = inner.box_field(values)
+                stress, field = self._outputs(eigenstrain, disturbance, matrix_stress, strain0)
+                self.eigenstrain, self.disturbance, self.displacement = eigenstrain, disturbance, displacement
                 return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field)
-            residuals.append(residual.ravel())
-            images.append(image.ravel())
-            del residuals[:-ANDERSON_DEPTH - 1], images[:-ANDERSON_DEPTH - 1]
-            displacement = _anderson(residuals, images).reshape(image.shape)
+            correction = inner._precondition(residual.ravel(), deflation)
+            image = operator.strain(inner.box_field(correction.reshape(-1, 6)))
+            inner.products += 1
+            directions.append(correction)
+            strains.append(image[inner.cells] * MANDEL)
+            moved = operator.surface_displacement(inner.box_field(correction.reshape(-1, 6)))
+            history.append((values.ravel() + correction, disturbance + image, displacement + moved, correction))
+            del history[:-ANDERSON_DEPTH - 1]
+            previous = displacement
+            values, disturbance, displacement = _anderson(history)
+            values = values.reshape(-1, 6)
         raise ConvergenceError(f"contact and inhomogeneities did not converge in {self.max_couplings} coupling "
                                f"iterations: the eigenstrains' surface displacement still changes by {change:.3g} of "
-                               f"the surface displacement, tolerance {self.tolerance:g}")
+                               f"the surface displacement, tolerance {self.tolerance:g}, and the equivalent-inclusion "
+                               f"residual is {relative:.3g} of its right-hand side, tolerance {self.inclusion_tolerance:g}")
 
     def snapshot(self):
         """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
         out = {"inclusion_eigenstrain": self.eigenstrain, "inclusion_start": np.array(self.problem.start)}
         if self.disturbance is not None:
             out["inclusion_disturbance"] = self.disturbance
+        # the Krylov solver's memory: a resumed run repeats the same iterations
+        out.update({f"inclusion_recycled_{key}": value
+                    for key, value in self.problem.problem.recycled.snapshot().items()})
         for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
             out.update({f"inclusion_{name}_{key}": value for key, value in integrator.snapshot().items()})
         return out
@@ -202,19 +231,36 @@ class ContactCoupling:
             start = np.asarray(snapshot["inclusion_start"], dtype=int)
             self.problem.move(tuple(int(c) for c in start[:2] - np.array(self.problem.start[:2])))
         self.displacement = self.problem.operator.surface_displacement(self.eigenstrain)
+        recycled = self.problem.problem.recycled
+        recycled.clear()
+        if "inclusion_recycled_directions" in snapshot:
+            recycled.restore({key[len("inclusion_recycled_"):]: value for key, value in snapshot.items()
+                              if key.startswith("inclusion_recycled_")})
         for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
             prefix = f"inclusion_{name}_"   # (inclusion_start and inclusion_eigenstrain have no such prefix)
             integrator.restore({key[len(prefix):]: value for key, value in snapshot.items() if key.startswith(prefix)})
 
 
 #: Iterates the Anderson mixing of the coupling remembers.
-ANDERSON_DEPTH = 4
+ANDERSON_DEPTH = 20
 
 
-def _anderson(residuals, images):
-    """Next iterate of Anderson mixing (type II) from the residuals ``F(u) - u`` and the images ``F(u)``."""
-    if len(residuals) == 1:
-        return images[-1]
-    differences = np.diff(np.array(residuals), axis=0).T
+def _anderson(history):
+    """Next iterate of Anderson mixing (type II) from the images ``G_k = e_k + f_k`` and residuals ``f_k``.
+
+    ``history`` holds ``(G, D[G], B G, f)`` per iterate; the same combination of the images gives
+    the next iterate, its strain and its surface displacement.
+    """
+    if len(history) == 1:
+        return history[-1][:3]
+    residuals = np.array([item[3] for item in history])
+    differences = np.diff(residuals, axis=0).T
     weights, *_ = np.linalg.lstsq(differences, residuals[-1], rcond=None)
-    return images[-1] - np.diff(np.array(images), axis=0).T @ weights
+    out = []
+    for part in range(3):
+        stack = [item[part] for item in history]
+        value = stack[-1].copy()
+        for k, weight in enumerate(weights):
+            value -= weight * (stack[k + 1] - stack[k])
+        out.append(value)
+    return tuple(out)

@@ -116,9 +116,11 @@ class InclusionProblem:
         self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
         start, self.shape, self.indicator = layout(grid, inclusions, margin)
         stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
+        starts = None
         if travel is not None:
-            self._check_travel(start, travel)
-        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None)
+            starts = self._check_travel(start, travel)
+        self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
+                                             starts=starts)
         self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, instantaneous(matrix))
         for k, stiffness in enumerate(self.problem.stiffness):
             ratio = stiffness_ratio(stiffness, self.problem.matrix)
@@ -132,8 +134,12 @@ class InclusionProblem:
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
 
     def _check_travel(self, start, travel):
-        """The box must stay on the grid while the material carries it (a rolling run), checked before any step."""
+        """The box must stay on the grid while the material carries it (a rolling run), checked before any step.
+
+        Returns every ``(x1, x2)`` start the box takes (the operator's surface maps are sized for them).
+        """
         position = np.array(start[:2])
+        starts = [tuple(int(c) for c in position)]
         for cells in travel:
             position = position + cells
             for axis in range(2):
@@ -145,6 +151,8 @@ class InclusionProblem:
                         f"{abs(position[axis] - start[axis]) * spacing:.4g} m of motion; expected them to "
                         f"stay on the grid for the whole run: lengthen grid.size[{axis}], shorten the distance or "
                         f"start them further ahead")
+            starts.append(tuple(int(c) for c in position))
+        return starts
 
     @property
     def start(self):

@@ -508,20 +508,48 @@ class HalfSpaceEigenstrain:
         self._surface.move(start)
         self.start = start
 
-    def strain(self, eigenstrain):
-        """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
-        eigenstrain = self._check(eigenstrain)
-        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
-        real_in, real_out, spectra, forward, inverse = self._plans()
+    def _transform(self, field, weights):
+        """The six spectra of the box field ``field * weights`` (``(m1, m2, m3, 6)``), in the products' buffer."""
+        m1, m2, m3 = self.shape
+        real_in, _, spectra, forward, _ = self._plans()
         for c in range(6):
-            np.multiply(eigenstrain[..., c], MANDEL[c], out=real_in[:m1, :m2, :m3])
+            np.multiply(field[..., c], weights[c], out=real_in[:m1, :m2, :m3])
             forward[c]()
-        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
-        stress = np.empty((m1, m2, m3, 6))
+        return spectra
+
+    def _transform_back(self, weights):
+        """The box field ``(m1, m2, m3, 6)`` of the buffer's six spectra, times ``weights`` (the spectra are spent)."""
+        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        _, real_out, _, _, inverse = self._plans()
+        out = np.empty((m1, m2, m3, 6))
         scale = 1.0 / (n1 * n2 * n3)
         for c in range(6):
             inverse[c]()
-            np.multiply(real_out[:m1, :m2, :m3], scale / MANDEL[c], out=stress[..., c])
+            np.multiply(real_out[:m1, :m2, :m3], scale * weights[c], out=out[..., c])
+        return out
+
+    def fourier(self, field, multiply):
+        """``F^-1 [multiply(F field)]`` on the padded box, for a box field ``(m1, m2, m3, 6)`` (Mandel components).
+
+        ``multiply(spectra)`` changes the six spectra ``(6, N1, N2, N3/2 + 1)`` in place; the box
+        part of the result is returned. For preconditioners that act on the box as if it were
+        one homogeneous periodic cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`).
+        """
+        multiply(self._transform(field, np.ones(6)))
+        return self._transform_back(np.ones(6))
+
+    def infinite_spectra(self):
+        """The infinite-space term's kernels: real factors ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit
+        Young's modulus, Mandel basis) for ``q1, q2 >= 0``, the entries' components ``(first, second)``
+        and the components' parities in x1 and x2 (an entry's is their product)."""
+        return self._direct, self._entries, self._parities
+
+    def strain(self, eigenstrain):
+        """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
+        eigenstrain = self._check(eigenstrain)
+        spectra = self._transform(eigenstrain, MANDEL)
+        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
+        stress = self._transform_back(1.0 / MANDEL)
         surface = self._surface
         # the traction is kept on the patch only: back to the surface, cut, and transformed again
         traction = surface.spectrum(surface.field(surface.surface(eigenstrain, "traction")))
