@@ -39,6 +39,10 @@ RECYCLED_BYTES = 128 * 2**20
 #: The recycled space forgets how much a direction was used by this factor per use.
 USE_MEMORY = 0.98
 
+#: Memory the GMRES basis and its directions' strains may take [bytes]: a large box restarts sooner and
+#: computes its solution's strain by one more product instead of keeping each direction's.
+GMRES_BYTES = 768 * 2**20
+
 #: Memory the Fourier preconditioner's per-wavenumber matrices may take [bytes] (else they are solved anew).
 FOURIER_BYTES = 256 * 2**20
 
@@ -190,8 +194,10 @@ class FourierPreconditioner:
     preconditioner). In the inhomogeneities' interior it is nearly the inverse (half the spectrum of
     the preconditioned operator within 1e-2 of 1); the cuboids next to the matrix spread the rest over
     [1, 5], against [0.13, 1.95] with each cuboid solved alone: GMRES needs about half the products
-    (glass in a polymer, 20 cuboids across: 26 against 47 for 1e-10). Several materials share their
-    contrast's mean over the inhomogeneities' cuboids. The matrices are stored when they take at most
+    (glass in a polymer, 20 cuboids across: 26 against 47 for 1e-10). It needs one material in all the
+    inhomogeneities (bodies of several stiffnesses, or one anisotropic material turned differently,
+    are preconditioned cuboid by cuboid: with a stiff and a soft body sharing a mean contrast the
+    iteration stalled). The matrices are stored when they take at most
     :data:`FOURIER_BYTES` (36 values per wavenumber), else solved anew at each application.
     """
 
@@ -260,10 +266,9 @@ class EquivalentInclusionProblem:
         Young's modulus of the matrix [Pa] (its Poisson ratio is the operator's).
     """
 
-    def __init__(self, operator, indicator, stiffnesses, young, preconditioner="fourier"):
-        if preconditioner not in ("fourier", "local"):
-            raise ParameterError(f"preconditioner must be 'fourier' or 'local', got {preconditioner!r}")
-        self.preconditioner = preconditioner
+    def __init__(self, operator, indicator, stiffnesses, young, preconditioner="auto"):
+        if preconditioner not in ("auto", "fourier", "local"):
+            raise ParameterError(f"preconditioner must be 'auto', 'fourier' or 'local', got {preconditioner!r}")
         indicator = np.asarray(indicator)
         if indicator.shape != operator.shape:
             raise ShapeError(f"indicator has shape {indicator.shape}, the operator's box is {operator.shape}")
@@ -272,6 +277,11 @@ class EquivalentInclusionProblem:
         self.cells = np.nonzero(indicator)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
+        if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
+            same = all(np.abs(c - self.stiffness[0]).max() <= 1e-12 * np.abs(self.stiffness[0]).max()
+                       for c in self.stiffness)
+            preconditioner = "fourier" if same else "local"
+        self.preconditioner = preconditioner
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
         self.recycled = RecycledSpace(6 * self.material.size)
@@ -386,9 +396,15 @@ class EquivalentInclusionProblem:
         residual = right - self._apply(values, disturbance).ravel()
         beta = np.linalg.norm(residual)
         iterations = 0
+        # a large box keeps neither the directions' strains nor a long basis: D[x] is computed once at the end
+        box_bytes = 8 * 6 * int(np.prod(self.operator.shape))
+        keep_images = RESTART * box_bytes <= GMRES_BYTES
+        recycling = self.recycled.kept > 0
+        per_iteration = 8 * self.size * (3 if recycling else 2) + (box_bytes if keep_images else 0)
+        restart = max(4, min(RESTART, GMRES_BYTES // per_iteration))
         while beta > target and iterations < max_iterations:
             deflation = self.recycled.preconditioner(self._coupling_images(), self.young)
-            size = min(RESTART, self.size, max_iterations - iterations)
+            size = min(restart, self.size, max_iterations - iterations)
             basis = np.empty((size + 1, self.size))
             directions, images, cells_images = [], [], []
             hessenberg = np.zeros((size + 1, size))
@@ -401,9 +417,13 @@ class EquivalentInclusionProblem:
                 image = self.operator.strain(self.box_field(direction.reshape(-1, 6)))
                 self.products += 1
                 directions.append(direction)
-                images.append(image)
-                cells_images.append(image[self.cells] * MANDEL)
-                w = self._apply(direction.reshape(-1, 6), image).ravel()
+                cells_image = image[self.cells] * MANDEL
+                if recycling:
+                    cells_images.append(cells_image)
+                if keep_images:
+                    images.append(image)
+                w = (self.per_material(self.contrast, cells_image) + direction.reshape(-1, 6) @ self.matrix.T).ravel()
+                del image
                 h = basis[:j + 1] @ w
                 w -= h @ basis[:j + 1]
                 again = basis[:j + 1] @ w
@@ -424,11 +444,18 @@ class EquivalentInclusionProblem:
                 if abs(projected[j + 1]) <= target or length == 0.0:
                     break
                 basis[j + 1] = w / length
+            del basis
             weights = solve_triangular(hessenberg[:used, :used], projected[:used])
-            values = values + (weights @ np.array(directions[:used])).reshape(-1, 6)
-            for weight, image in zip(weights, images[:used]):
-                disturbance = disturbance + weight * image
+            step = (weights @ np.array(directions[:used])).reshape(-1, 6)
+            values = values + step
+            if keep_images:
+                for weight, image in zip(weights, images[:used]):
+                    disturbance = disturbance + weight * image
+            else:
+                disturbance = disturbance + self.operator.strain(self.box_field(step))
+                self.products += 1
             self.recycled.add(directions[:used], cells_images[:used], self._coupling_images(), self.young)
+            del directions, images, cells_images
             residual = right - self._apply(values, disturbance).ravel()
             beta = np.linalg.norm(residual)
         return values, disturbance, iterations, float(beta / scale)
@@ -444,9 +471,7 @@ class EquivalentInclusionProblem:
         if self.preconditioner == "local":
             return self.per_material(self._preconditioner, values).ravel()
         if self._fourier is None:
-            counts = np.bincount(self.material, minlength=len(self.contrast)) / self.material.size
-            contrast = sum(weight * c for weight, c in zip(counts, self.contrast))
-            self._fourier = FourierPreconditioner(self.operator, contrast, self.matrix)
+            self._fourier = FourierPreconditioner(self.operator, self.contrast[0], self.matrix)
             self._fourier.young = self.young
         field = np.zeros((*self.operator.shape, 6))
         field[self.cells] = values

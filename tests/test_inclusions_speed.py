@@ -1,0 +1,222 @@
+"""The fast eigenstrain operator and solvers: the same numbers as the direct sums and the plain transforms,
+by every code path (compiled or numpy, pyFFTW or scipy), and the iteration counts they are built for."""
+import numpy as np
+import pytest
+
+import framework as fw
+from framework import _fused, fft, inclusions, indenters, loads, materials, schedules
+from framework.inclusions import equivalent
+from framework.inclusions.field import InclusionProblem
+from framework.operators.eigenstrain import (ENTRIES, MANDEL, HalfSpaceEigenstrain, _stiffness_coefficients,
+                                             potential_kernel_items, strain_at_points, stress_from_strain)
+from framework.operators.kernels import subsurface_stress
+
+NU = 0.3
+GLASS = materials.Elastic(70e9, 0.22)
+
+# grid shape, layers, box start, box shape, whole patch (and a move)
+BOXES = [((24, 20), 10, (8, 6, 0), (7, 5, 4), False),       # touching the surface
+         ((40, 36), 16, (5, 9, 3), (9, 11, 6), False),      # off-centre, odd and even sides
+         ((30, 30), 20, (11, 12, 9), (6, 5, 8), False),     # deep, tall
+         ((40, 34), 14, (12, 8, 2), (9, 7, 5), True)]       # a box that moves over the grid
+
+
+def box_case(shape, layers, start, box, whole, average=True, starts=None):
+    grid = fw.Grid(shape=shape, size=(shape[0] * 1e-4, shape[1] * 1.1e-4), depth=layers * 0.9e-4, layers=layers)
+    return grid, HalfSpaceEigenstrain(grid, NU, start, box, whole_patch=whole, average=average, starts=starts)
+
+
+@pytest.mark.parametrize("case", BOXES)
+@pytest.mark.parametrize("average", [True, False])
+def test_product_equals_direct_sums_on_boxes_of_several_shapes(case, average):
+    """Every term of the FFT product (infinite space, mirror, Boussinesq correction) against the direct corner
+    sums and Love sums over the same box, at cells in the corners and inside, to 1e-12 of the strain."""
+    grid, operator = box_case(*case, average=average)
+    if case[-1]:
+        operator.move((3, -2))
+    rng = np.random.default_rng(7)
+    eigen = rng.normal(size=(*operator.shape, 6)) * 1e-3
+    strain = operator.strain(eigen)
+    m1, m2, m3 = operator.shape
+    cells = [(0, 0, 0), (m1 - 1, m2 - 1, m3 - 1), (m1 // 2, m2 // 3, m3 // 2)]
+    s1, s2, s3 = operator.start
+    points = np.array([[grid.x1[s1 + i], grid.x2[s2 + j], grid.x3[s3 + k]] for i, j, k in cells])
+    direct = operator.strain_at(points, eigen, average=average)
+    assert np.abs(direct - np.array([strain[c] for c in cells])).max() <= 1e-12 * np.abs(strain).max()
+
+
+def test_quarter_spectra_equal_the_full_transform():
+    """The kernels' spectra built from one octant by DCT/DST-I equal the real FFT of the whole wrapped lattice."""
+    grid, operator = box_case(*BOXES[1])
+    (m1, m2, m3), (n1, n2, n3) = operator.shape, operator.fft_shape
+    faces = [(np.arange(-m, m) + 0.5) * h for m, h in zip(operator.shape, operator.spacing)]
+    coefficients = _stiffness_coefficients(NU)
+    full = {entry: 0.0 for entry in ENTRIES}
+    for key, values in potential_kernel_items(*faces, cell=operator.spacing):
+        for entry in ENTRIES:
+            full[entry] = full[entry] + coefficients[entry][key] * values
+    index = [np.r_[np.arange(m), np.arange(-n + m, 0)] for m, n in zip(operator.shape, operator.fft_shape)]
+    for e, entry in enumerate(ENTRIES):
+        wrapped = np.zeros(operator.fft_shape)
+        offsets = np.ix_(*[np.r_[np.arange(m), np.arange(-m + 1, 0)] for m in operator.shape])
+        wrapped[offsets] = full[entry][np.ix_(*[np.r_[np.arange(m - 1, 2 * m - 1), np.arange(0, m - 1)]
+                                                for m in operator.shape])]
+        expected = np.fft.rfftn(wrapped)[:n1 // 2 + 1, :n2 // 2 + 1]
+        assert np.abs(expected.imag).max() <= 1e-12 * np.abs(expected).max()
+        assert np.abs(operator._direct[e] - expected.real).max() <= 1e-12 * np.abs(expected).max()
+    assert index
+
+
+def test_surface_maps_equal_direct_sums():
+    """Betti's surface displacement and the stress of a surface pressure at the box, against Love's sums."""
+    grid, operator = box_case(*BOXES[1])
+    rng = np.random.default_rng(3)
+    eigen = rng.normal(size=(*operator.shape, 6)) * 1e-3
+    displacement = operator.surface_displacement(eigen)
+    dx1, dx2 = grid.spacing
+    centres = np.stack(np.meshgrid(*(axis[b] for axis, b in zip((grid.x1, grid.x2, grid.x3), operator.box)),
+                                   indexing="ij"), axis=-1)
+    weights = np.array([1, 1, 1, 2, 2, 2.0])
+    for i, j in [(0, 0), (20, 17), (39, 35), (7, 30)]:
+        stress = subsurface_stress(centres[..., 0] - grid.x1[i], centres[..., 1] - grid.x2[j], centres[..., 2],
+                                   half1=dx1 / 2, half2=dx2 / 2, poisson=NU)
+        expected = operator.spacing[2] * np.sum(stress * eigen * weights)
+        assert displacement[i, j] == pytest.approx(expected, abs=1e-12 * np.abs(displacement).max())
+    pressure = np.zeros(grid.shape)
+    pressure[10:25, 14:30] = rng.random((15, 16)) * 1e6
+    stress = operator.pressure_stress(pressure)
+    x1, x2 = grid.coordinates()
+    for cell in [(0, 0, 0), (8, 10, 5), (4, 3, 2)]:
+        point = centres[cell]
+        expected = np.einsum("ij,ijc->c", pressure, subsurface_stress(point[0] - x1, point[1] - x2, point[2],
+                                                                        half1=dx1 / 2, half2=dx2 / 2, poisson=NU))
+        assert np.abs(stress[cell] - expected).max() <= 1e-12 * np.abs(stress).max()
+
+
+@pytest.mark.parametrize("path", ["numpy loops", "scipy transforms"])
+def test_every_code_path_gives_the_same_product(path):
+    """Compiled and numpy passes, pyFFTW and scipy transforms: the same products and preconditioner to rounding."""
+    case = BOXES[3]
+    grid, operator = box_case(*case)
+    eigen = np.random.default_rng(5).normal(size=(*operator.shape, 6))
+    strain, displacement = operator.strain(eigen), operator.surface_displacement(eigen)
+    if path == "numpy loops":
+        with _fused.use_compiled(False):
+            other, moved = operator.strain(eigen), operator.surface_displacement(eigen)
+    else:
+        with fft.use_backend("scipy"):
+            _, again = box_case(*case)
+            other, moved = again.strain(eigen), again.surface_displacement(eigen)
+    assert np.abs(other - strain).max() <= 1e-13 * np.abs(strain).max()
+    assert np.abs(moved - displacement).max() <= 1e-13 * np.abs(displacement).max()
+
+
+def stiff_sphere_problem(**options):
+    grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.5e-3, layers=20)
+    body = inclusions.Ellipsoid(center=(0.0, 0.0, 0.25e-3), semi_axes=(0.15e-3,) * 3, material=GLASS)
+    return InclusionProblem(grid, materials.Elastic(3e9, 0.35), inclusions.InclusionSet([body])).problem
+
+
+def test_fourier_preconditioner_halves_the_products():
+    """Glass in a polymer (23 times stiffer), 12 cuboids across, to 1e-10: each cuboid solved alone takes 43
+    products, the Fourier preconditioner 24 (stored or solved anew per application: the same solution)."""
+    applied = np.array([1e-3, 0, 0, 0, 2e-4, 0])
+    counts, solutions = {}, {}
+    for name, preconditioner, stored in (("local", "local", True), ("fourier", "fourier", True),
+                                         ("solved anew", "fourier", False)):
+        problem = stiff_sphere_problem()
+        problem.preconditioner, problem.recycled.kept = preconditioner, 0
+        if not stored:
+            problem._fourier = None
+            saved, equivalent.FOURIER_BYTES = equivalent.FOURIER_BYTES, 0
+        try:
+            solution = problem.solve(applied, tolerance=1e-10)
+        finally:
+            if not stored:
+                equivalent.FOURIER_BYTES = saved
+        assert solution.success and solution.residual <= 1e-10
+        counts[name], solutions[name] = solution.iterations, solution.eigenstrain
+    assert counts["local"] <= 48 and counts["fourier"] <= 28 and counts["fourier"] < 0.65 * counts["local"]
+    assert counts["solved anew"] == counts["fourier"]
+    scale = np.abs(solutions["fourier"]).max()
+    assert np.abs(solutions["solved anew"] - solutions["fourier"]).max() <= 1e-12 * scale
+    assert np.abs(solutions["local"] - solutions["fourier"]).max() <= 1e-8 * scale
+
+
+def test_recycled_directions_shorten_a_sequence_of_similar_solves():
+    """Right-hand sides that change a little from solve to solve (a load moving over the body): the directions
+    kept from the earlier solves cut the later ones' products (23, then 16, 14, 11 for the last three)."""
+    problem = stiff_sphere_problem()
+    cells = np.array(problem.cells).T
+    products = []
+    for shift in range(6):
+        ramp = np.exp(-0.5 * ((cells[:, 0] - 6.0 - shift) / 4.0) ** 2)[:, None]
+        right = ramp * np.array([1, 0.2, -0.3, 0, 0.1, 0]) * 1e8
+        before = problem.products
+        _, _, iterations, residual, success = problem.solve_for(right, tolerance=1e-9)
+        assert success and residual <= 1e-9
+        products.append(problem.products - before)
+    assert products[0] >= 18 and max(products[3:]) <= 0.75 * products[0] and products[-1] <= 0.55 * products[0]
+    snapshot = problem.recycled.snapshot()
+    again = equivalent.RecycledSpace(problem.size)
+    again.restore(snapshot)
+    assert all(np.array_equal(getattr(again, name), getattr(problem.recycled, name))
+               for name in ("directions", "strains", "images"))
+    images = problem.recycled.images
+    assert np.abs(images @ images.T - np.eye(len(images))).max() <= 1e-10
+
+
+def coupled(schedule, matrix, bodies, tolerance):
+    grid = fw.Grid(shape=(48, 40), size=(1.2e-3, 1.0e-3), depth=0.5e-3, layers=20)
+    indenter = indenters.FlatPunch(radius=0.2e-3) if isinstance(schedule, schedules.Eccentric) else \
+        indenters.Sphere(radius=5e-3)
+    return fw.Simulation(grid=grid, material=matrix, indenter=indenter, schedule=schedule, inclusions=bodies,
+                         options={"coupling_tolerance": tolerance}).run()
+
+
+VISCO = materials.Viscoelastic.from_prony(e_inf=1e9, terms=[(1e9, 0.05), (1e9, 0.5)], poisson=0.35)
+QUICK = materials.Viscoelastic.from_prony(e_inf=1e9, terms=[(1e9, 0.005), (1e9, 0.02)], poisson=0.35)
+ONE = [inclusions.Ellipsoid(center=(0.05e-3, 0.0, 0.15e-3), semi_axes=(0.08e-3,) * 3, material=GLASS)]
+TWO = [inclusions.Ellipsoid(center=(-0.13e-3, 0.0, 0.14e-3), semi_axes=(0.08e-3,) * 3, material=GLASS),
+       inclusions.Ellipsoid(center=(0.1e-3, 0.04e-3, 0.16e-3), semi_axes=(0.1e-3, 0.08e-3, 0.09e-3),
+                            material=materials.Elastic(0.6e9, 0.3))]
+PATHS = {
+    "static elastic, one body": (schedules.Static(load=[5.0, 10.0]), materials.Elastic(3e9, 0.35), ONE),
+    "static viscoelastic, two bodies": (schedules.Static(load=loads.Step(8.0), times=[1e-3, 0.05, 0.4]), VISCO, TWO),
+    "eccentric elastic, two bodies": (schedules.Eccentric(load=[6.0], offset=(0.03e-3, 0.0)),
+                                      materials.Elastic(3e9, 0.35), TWO),
+    "rolling viscoelastic, one body": (schedules.Rolling(load=8.0, velocity=(1e-3, 0.0), distance=0.1e-3), QUICK,
+                                       ONE),
+}
+
+
+@pytest.mark.parametrize("path", list(PATHS))
+def test_every_coupled_path_converges_to_the_tightly_solved_answer(path):
+    """Static, eccentric and rolling; elastic and viscoelastic matrices; one and two bodies: the default coupling
+    tolerance (1e-8) gives the pressure, friction, approach and eigenstrains of a 1e-12 solve to 1e-6 of their
+    scale, as the former nested solves did, and every step's eigenstrains answer its pressure."""
+    schedule, matrix, bodies = PATHS[path]
+    loose, tight = coupled(schedule, matrix, bodies, 1e-8), coupled(schedule, matrix, bodies, 1e-12)
+    for a, b in zip(loose.records, tight.records):
+        assert np.abs(a.pressure - b.pressure).max() <= 1e-6 * b.pressure.max()
+        assert np.abs(a.eigenstrain - b.eigenstrain).max() <= 1e-6 * np.abs(b.eigenstrain).max()
+        assert a.approach == pytest.approx(b.approach, rel=1e-6)
+    if isinstance(schedule, schedules.Rolling):
+        friction = tight.friction_coefficient
+        assert np.abs(loose.friction_coefficient - friction).max() <= 1e-6 * np.abs(friction).max()
+
+
+def test_rolling_step_products_are_few():
+    """A viscoelastic rolling run over a glass sphere: one product per coupling iteration, and the steps take
+    fewer as the recycled directions grow (this case: 17 and 19 for the rest and the first step, then 16, 14,
+    14, 14, 13, 12 one cell on each)."""
+    grid = fw.Grid(shape=(48, 32), size=(1.2e-3, 0.8e-3), depth=0.4e-3, layers=16)
+    body = inclusions.Ellipsoid(center=(0.1e-3, 0.0, 0.14e-3), semi_axes=(0.08e-3,) * 3, material=GLASS)
+    simulation = fw.Simulation(grid=grid, material=QUICK, indenter=indenters.Sphere(radius=5e-3),
+                               schedule=schedules.Rolling(load=8.0, velocity=(1e-3, 0.0), distance=0.2e-3),
+                               inclusions=[body])
+    result = simulation.run()
+    couplings = np.array([record.couplings for record in result.records])
+    assert couplings[:2].max() <= 22 and couplings[-3:].max() <= 15 and couplings[-1] <= 0.75 * couplings[1]
+    # a product per iteration but the last (converged), and one per move for the last eigenstrains' strain
+    assert simulation._inclusion_problem.problem.products == couplings.sum() - len(couplings) + len(couplings) - 1
