@@ -15,7 +15,7 @@ friction peak for a contact radius a ~ 0.2-0.3 mm). Below the track lies one gla
 
 and the homogeneous runs for reference. The body first indents at rest (the glassy response), then
 rolls 1.2 mm, past the inhomogeneity. With the default ``cells`` = 48 (cells across the grid,
-25 um cubes), each run takes about a minute.
+25 um cubes), the runs take 24 s together (0.2-11 s each).
 
 What happens: as the body approaches a stiff inhomogeneity, it lies ahead of the contact's centre,
 where the sphere's surface slopes against the motion: the extra pressure it draws there adds to
@@ -36,7 +36,7 @@ slice along the run). A Dask study over the modulus ratio, the depth and the til
     python examples/rolling_over_inhomogeneity.py [--cells 48] [--out out/examples] [--sweep N]
 
 ``--sweep N`` also runs the first ``N`` points of ``examples/sweep_rolling_inclusion.toml`` (all 10,
-one parameter at a time around a base case: a few minutes on two cores; Dask spreads them over a
+one parameter at a time around a base case: 17 s on two cores; Dask spreads them over a
 cluster with ``python -m framework sweep``) and draws ``rolling_inhomogeneity_sweep.png``: the friction
 coefficient and peak pressure with the body above the inhomogeneity against each swept parameter, one
 line per value of the others (a single point where only one parameter differs from the base case).

@@ -197,29 +197,42 @@ class FourierPreconditioner:
     (glass in a polymer, 20 cuboids across: 26 against 47 for 1e-10). It needs one material in all the
     inhomogeneities (bodies of several stiffnesses, or one anisotropic material turned differently,
     are preconditioned cuboid by cuboid: with a stiff and a soft body sharing a mean contrast the
-    iteration stalled). The matrices are stored when they take at most
-    :data:`FOURIER_BYTES` (36 values per wavenumber), else solved anew at each application.
+    iteration stalled). The matrices (36 values per wavenumber, a quarter of the wavenumbers for
+    isotropic materials) must fit in :data:`FOURIER_BYTES`, else each cuboid is solved alone.
     """
 
     def __init__(self, operator, contrast, matrix):
         self.operator = operator
         direct, (first, second), parities = operator.infinite_spectra()
         unit = isotropic_mandel(1.0, operator.poisson)
-        self._arguments = (direct, first, second, *parities, contrast @ np.linalg.inv(unit), matrix)
+        arguments = (direct, first, second, *parities, contrast @ np.linalg.inv(unit), matrix)
         n1, n2, n3 = operator.fft_shape
-        self.matrices = None
-        if n1 * n2 * (n3 // 2 + 1) * 36 * 8 <= FOURIER_BYTES:
-            self.matrices = np.linalg.inv(fourier_matrices(*self._arguments, n1, n2))
+        # Reflected along x1 or x2, K(q) changes the signs of the components odd along that axis; when the
+        # contrast and the matrix keep them (isotropic, or orthotropic along the axes), so do the inverses,
+        # and a quarter of them is stored.
+        reflections = [np.diag(p) for p in parities]
+        symmetric = all(np.allclose(r @ c @ r, c, rtol=0.0, atol=1e-12 * np.abs(c).max())
+                        for r in reflections for c in (contrast, matrix))
+        rows, columns = ((np.arange(n1 // 2 + 1), np.arange(n2 // 2 + 1)) if symmetric
+                         else (np.arange(n1), np.arange(n2)))
+        self.parities = parities if symmetric else (np.ones(6), np.ones(6))
+        self.matrices = np.empty((len(rows), len(columns), n3 // 2 + 1, 6, 6))
+        for row in rows:        # a row at a time: no second array of the matrices' size
+            self.matrices[row] = np.linalg.inv(fourier_matrices(*arguments, n1, n2, rows=[row], columns=columns)[0])
 
-    def _multiply(self, spectra):
-        if self.matrices is not None:
-            loops().fourier_apply(spectra, self.matrices)
-        else:
-            loops().fourier_solve(spectra, *self._arguments)
+    @staticmethod
+    def fits(operator, stiffnesses):
+        """Whether the matrices for these inhomogeneities' stiffnesses (Mandel) take at most :data:`FOURIER_BYTES`."""
+        n1, n2, n3 = operator.fft_shape
+        isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
+                        for p in operator.infinite_spectra()[2] for c in stiffnesses)
+        rows, columns = (n1 // 2 + 1, n2 // 2 + 1) if isotropic else (n1, n2)
+        return rows * columns * (n3 // 2 + 1) * 36 * 8 <= FOURIER_BYTES
 
     def __call__(self, field):
         """The preconditioned box field of a box field ``(m1, m2, m3, 6)`` (Mandel components)."""
-        return self.operator.fourier(field, self._multiply)
+        return self.operator.fourier(field, lambda spectra: loops().fourier_apply(spectra, self.matrices,
+                                                                                  *self.parities))
 
 
 @dataclass
@@ -280,7 +293,7 @@ class EquivalentInclusionProblem:
         if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
             same = all(np.abs(c - self.stiffness[0]).max() <= 1e-12 * np.abs(self.stiffness[0]).max()
                        for c in self.stiffness)
-            preconditioner = "fourier" if same else "local"
+            preconditioner = "fourier" if same and FourierPreconditioner.fits(operator, self.stiffness) else "local"
         self.preconditioner = preconditioner
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None

@@ -16,9 +16,8 @@ whole spectra, each a temporary). Here each is one loop:
                  ``q1 >= 0`` as real factors, each with a complex factor and its parity in ``q1``)
 ``surface_spread`` ``out[p] = kernels[p] * spectrum``: a surface field's spectrum spread over the
                  layers and components of a box, the same storage
-``fourier_apply`` ``s(q) <- M(q) s(q)``, a 6 x 6 real matrix per wavenumber (a preconditioner's)
-``fourier_solve`` ``s(q) <- (L K(q) + R)^-1 s(q)``, the same without storing the matrices: ``K(q)``
-                 from the stored kernels of the infinite-space term, solved per wavenumber
+``fourier_apply`` ``s(q) <- M(q) s(q)``, a 6 x 6 real matrix per wavenumber (a preconditioner's), stored
+                 for every wavenumber or, when the components' parities allow, for ``q1, q2 >= 0``
 ===============  ==================================================================================
 
 The compiled loops are used when numba is installed and :func:`framework._fused.set_compiled`
@@ -116,70 +115,32 @@ class _Loops:
                     out[p, i1, k] = g * (kernels[first + p, j1, k] * spectrum[i1, k])
 
 
-    def fourier_apply(spectra, matrices):
+    def fourier_apply(spectra, matrices, parity1, parity2):
         _, n1, n2, h = spectra.shape
+        half = matrices.shape[0] != n1          # stored for q1, q2 >= 0: the signs of the components' parities
         x = np.empty(6, dtype=np.complex128)
+        sign = np.ones(6)
         for i1 in range(n1):
+            j1 = min(i1, n1 - i1) if half else i1
             for i2 in range(n2):
-                for k in range(h):
-                    m = matrices[i1, i2, k]
+                j2 = min(i2, n2 - i2) if half else i2
+                if half:
                     for a in range(6):
-                        x[a] = spectra[a, i1, i2, k]
+                        g = 1.0
+                        if i1 > n1 // 2:
+                            g *= parity1[a]
+                        if i2 > n2 // 2:
+                            g *= parity2[a]
+                        sign[a] = g
+                for k in range(h):
+                    m = matrices[j1, j2, k]
+                    for a in range(6):
+                        x[a] = sign[a] * spectra[a, i1, i2, k]
                     for a in range(6):
                         total = 0j
                         for b in range(6):
                             total += m[a, b] * x[b]
-                        spectra[a, i1, i2, k] = total
-
-    def fourier_solve(spectra, direct, first, second, parity1, parity2, left, right):
-        _, n1, n2, h = spectra.shape
-        half1, half2 = n1 // 2, n2 // 2
-        kernel = np.empty((6, 6))
-        system = np.empty((6, 6))
-        x = np.empty(6, dtype=np.complex128)
-        for i1 in range(n1):
-            j1 = min(i1, n1 - i1)
-            for i2 in range(n2):
-                j2 = min(i2, n2 - i2)
-                for k in range(h):
-                    for e in range(first.shape[0]):
-                        a, b = first[e], second[e]
-                        value = direct[e, j1, j2, k]
-                        if i1 > half1:
-                            value *= parity1[a] * parity1[b]
-                        if i2 > half2:
-                            value *= parity2[a] * parity2[b]
-                        kernel[a, b] = value
-                        kernel[b, a] = value
-                    for a in range(6):
-                        for b in range(6):
-                            total = right[a, b]
-                            for c in range(6):
-                                total += left[a, c] * kernel[c, b]
-                            system[a, b] = total
-                        x[a] = spectra[a, i1, i2, k]
-                    # Gaussian elimination with partial pivoting, the right-hand side complex
-                    for c in range(6):
-                        pivot = c
-                        for r in range(c + 1, 6):
-                            if abs(system[r, c]) > abs(system[pivot, c]):
-                                pivot = r
-                        if pivot != c:
-                            for b in range(6):
-                                system[c, b], system[pivot, b] = system[pivot, b], system[c, b]
-                            x[c], x[pivot] = x[pivot], x[c]
-                        for r in range(c + 1, 6):
-                            factor = system[r, c] / system[c, c]
-                            for b in range(c, 6):
-                                system[r, b] -= factor * system[c, b]
-                            x[r] -= factor * x[c]
-                    for c in range(5, -1, -1):
-                        total = x[c]
-                        for b in range(c + 1, 6):
-                            total -= system[c, b] * x[b]
-                        x[c] = total / system[c, c]
-                    for a in range(6):
-                        spectra[a, i1, i2, k] = x[a]
+                        spectra[a, i1, i2, k] = sign[a] * total
 
 
 class NumpyLoops:
@@ -225,26 +186,24 @@ class NumpyLoops:
 
 
     @staticmethod
-    def fourier_apply(spectra, matrices):
+    def fourier_apply(spectra, matrices, parity1, parity2):
+        n1, n2 = spectra.shape[1:3]
+        if matrices.shape[0] != n1:
+            rows, columns = np.arange(n1), np.arange(n2)
+            j1, j2 = np.minimum(rows, n1 - rows), np.minimum(columns, n2 - columns)
+            sign = (np.where(rows[:, None] > n1 // 2, parity1[None, :], 1.0)[:, None, None, :]
+                    * np.where(columns[:, None] > n2 // 2, parity2[None, :], 1.0)[None, :, None, :])
+            matrices = matrices[j1][:, j2] * sign[..., :, None] * sign[..., None, :]
         spectra[...] = np.einsum("...ab,b...->a...", matrices, spectra)
 
-    @staticmethod
-    def fourier_solve(spectra, direct, first, second, parity1, parity2, left, right):
-        n1 = spectra.shape[1]
-        for i1 in range(n1):
-            matrices = fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, spectra.shape[2],
-                                        rows=[i1])
-            spectra[:, i1] = np.moveaxis(np.linalg.solve(matrices[0], np.moveaxis(spectra[:, i1], 0, -1)[..., None])
-                                         [..., 0], -1, 0)
 
-
-def fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, n2, rows=None):
-    """``left K(q) + right`` ``(rows, n2, h, 6, 6)`` for the rows ``i1`` of the full wavenumber grid (all by default),
-    ``K(q)`` expanded from the stored kernels of ``q1, q2 >= 0`` by the entries' parities."""
+def fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, n2, rows=None, columns=None):
+    """``left K(q) + right`` ``(rows, columns, h, 6, 6)`` for the rows ``i1`` and columns ``i2`` of the full wavenumber
+    grid (all by default), ``K(q)`` expanded from the stored kernels of ``q1, q2 >= 0`` by the entries' parities."""
     rows = np.arange(n1) if rows is None else np.asarray(rows)
-    i2 = np.arange(n2)
+    i2 = np.arange(n2) if columns is None else np.asarray(columns)
     j1, j2 = np.minimum(rows, n1 - rows), np.minimum(i2, n2 - i2)
-    kernel = np.empty((len(rows), n2, direct.shape[-1], 6, 6))
+    kernel = np.empty((len(rows), len(i2), direct.shape[-1], 6, 6))
     for e, (a, b) in enumerate(zip(first, second)):
         sign = (np.where(rows > n1 // 2, parity1[a] * parity1[b], 1.0)[:, None]
                 * np.where(i2 > n2 // 2, parity2[a] * parity2[b], 1.0)[None, :])
@@ -264,5 +223,5 @@ def loops():
     if "compiled" not in _cache:
         jit = _fused._cache["numba"].njit(cache=True, nogil=True, fastmath={"reassoc", "nsz", "nnan", "contract"})
         _cache["compiled"] = type("CompiledBoxLoops", (), {name: staticmethod(jit(getattr(_Loops, name)))
-                                                           for name in ("stiffness", "surface_sum", "surface_spread", "fourier_apply", "fourier_solve")})
+                                                           for name in ("stiffness", "surface_sum", "surface_spread", "fourier_apply")})
     return _cache["compiled"]
