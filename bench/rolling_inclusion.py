@@ -128,8 +128,8 @@ def case(terms, cells, with_body=True):
     precondition = Timer(equivalent.EquivalentInclusionProblem._precondition)
     times = []
 
-    def strain(self, *args):
-        return product(self, *args)
+    def strain(self, *args, **kwargs):
+        return product(self, *args, **kwargs)
 
     def precondition_(self, *args):
         return precondition(self, *args)

@@ -93,6 +93,18 @@ def test_surface_maps_equal_direct_sums():
         assert np.abs(stress[cell] - expected).max() <= 1e-12 * np.abs(stress).max()
 
 
+@pytest.mark.parametrize("case", [BOXES[1], BOXES[3]])
+def test_product_with_its_surface_displacement(case):
+    """``strain(e, displacement=True)`` (which shares the transforms when the patch is the grid) is the product
+    and the surface displacement computed apart."""
+    _, operator = box_case(*case)
+    eigen = np.random.default_rng(9).normal(size=(*operator.shape, 6))
+    strain, displacement = operator.strain(eigen, displacement=True)
+    assert np.array_equal(strain, operator.strain(eigen))
+    alone = operator.surface_displacement(eigen)
+    assert np.abs(displacement - alone).max() <= 1e-14 * np.abs(alone).max()
+
+
 @pytest.mark.parametrize("path", ["numpy loops", "scipy transforms"])
 def test_every_code_path_gives_the_same_product(path):
     """Compiled and numpy passes, pyFFTW and scipy transforms: the same products and preconditioner to rounding."""

@@ -196,11 +196,10 @@ class ContactCoupling:
                 self.eigenstrain, self.disturbance, self.displacement = eigenstrain, disturbance, displacement
                 return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field)
             correction = inner._precondition(residual.ravel(), deflation)
-            image = operator.strain(inner.box_field(correction.reshape(-1, 6)))
+            image, moved = operator.strain(inner.box_field(correction.reshape(-1, 6)), displacement=True)
             inner.products += 1
             directions.append(correction)
             strains.append(image[inner.cells] * MANDEL)
-            moved = operator.surface_displacement(inner.box_field(correction.reshape(-1, 6)))
             history.append((values.ravel() + correction, disturbance + image, displacement + moved, correction))
             del history[:-ANDERSON_DEPTH - 1]
             previous = displacement

@@ -148,28 +148,33 @@ class BoxSurface:
             self._columns_in[...] = 0.0
             self.position = position
 
-    def surface(self, field, kind):
-        """Spectrum ``(P1, P2/2 + 1)`` of the surface field of a box field ``(m1, m2, m3, 6)``, unnormalised.
+    def surface(self, field, *kinds, weights=None):
+        """Spectra ``(P1, P2/2 + 1)`` of surface fields of a box field ``(m1, m2, m3, 6)``, unnormalised, one per kind.
 
-        ``kind`` ``"traction"``: the kernels of ``traction``; ``"betti"``: Love's kernels transposed
-        (the surface displacement per unit eigenstrain and layer thickness is the field times the
-        shear weights, see :meth:`HalfSpaceEigenstrain.surface_displacement`).
+        ``"traction"``: the kernels of ``traction``; ``"betti"``: Love's kernels transposed, the components
+        times ``weights`` (the surface displacement per unit eigenstrain and layer thickness is the field
+        times the shear weights, see :meth:`HalfSpaceEigenstrain.surface_displacement`). Several kinds share
+        the transforms of the field.
         """
         (m1, m2), (f1, f2) = self.footprint_shape, self.position
-        if kind == "traction":
-            kernels, factors, parities = self._traction, self._traction_factor, self._traction_parity
-        else:   # the correlation with Love's kernels: each reversed, i.e. times its parity in x1 and x2
-            kernels, parities = self._love, self._love_parity
-            factors = self._love_factor * np.array([np.prod(surface_parities(c)) for c in range(6)] * self.layers)
-        total = np.zeros((self.fft_shape[0], self.fft_shape[1] // 2 + 1), complex)
+        sums = []
+        for kind in kinds:
+            if kind == "traction":
+                sums.append((self._traction, self._traction_factor, self._traction_parity))
+            else:   # the correlation with Love's kernels: each reversed, i.e. times its parity in x1 and x2
+                reversal = np.array([np.prod(surface_parities(c)) for c in range(6)])
+                scale = reversal if weights is None else reversal * weights
+                sums.append((self._love, self._love_factor * np.tile(scale, self.layers), self._love_parity))
+        totals = [np.zeros((self.fft_shape[0], self.fft_shape[1] // 2 + 1), complex) for _ in kinds]
         passes = loops()
         for layer in range(self.layers):
             self._rows_in[:, :, f2:f2 + m2] = np.moveaxis(field[:, :, layer, :], -1, 0)
             self._rows()
             self._columns_in[:, f1:f1 + m1] = self._rows_out
             self._columns()
-            passes.surface_sum(total, kernels, factors, parities, self._columns_out, 6 * layer)
-        return total
+            for total, (kernels, factors, parities) in zip(totals, sums):
+                passes.surface_sum(total, kernels, factors, parities, self._columns_out, 6 * layer)
+        return totals
 
     def box_stress(self, spectrum):
         """Stress ``(m1, m2, m3, 6)`` at the box's cuboid centres of the surface pressure whose unnormalised

@@ -456,7 +456,7 @@ class HalfSpaceEigenstrain:
         The normal stress that the eigenstrains and their mirror image leave on the
         surface, as the compressive pressure that the Boussinesq correction applies.
         """
-        return self._surface.field(self._surface.surface(self._check(eigenstrain), "traction"))
+        return self._surface.field(self._surface.surface(self._check(eigenstrain), "traction")[0])
 
     def _grid_map(self):
         """The surface map over the whole grid (the patch's when the patch is the grid)."""
@@ -475,7 +475,8 @@ class HalfSpaceEigenstrain:
         transpose of :meth:`pressure_stress`); it does not depend on the modulus.
         """
         surface = self._grid_map()
-        return self.spacing[2] * surface.field(surface.surface(self._check(eigenstrain) * CONTRACTION, "betti"))
+        spectrum, = surface.surface(self._check(eigenstrain), "betti", weights=CONTRACTION)
+        return self.spacing[2] * surface.field(spectrum)
 
     def pressure_stress(self, pressure):
         """Stress ``(m1, m2, m3, 6)`` [Pa] at the box's cuboid centres of a surface pressure ``(n1, n2)`` [Pa]
@@ -544,17 +545,26 @@ class HalfSpaceEigenstrain:
         and the components' parities in x1 and x2 (an entry's is their product)."""
         return self._direct, self._entries, self._parities
 
-    def strain(self, eigenstrain):
-        """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``."""
+    def strain(self, eigenstrain, displacement=False):
+        """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``.
+
+        With ``displacement``, also its :meth:`surface_displacement`, as ``(strain, displacement)``: when the
+        surface patch is the grid (a rolling run's box) it shares the correction's transforms.
+        """
         eigenstrain = self._check(eigenstrain)
         spectra = self._transform(eigenstrain, MANDEL)
         loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
         stress = self._transform_back(1.0 / MANDEL)
         surface = self._surface
+        shared = displacement and surface is self._grid_map()
+        spectra = surface.surface(eigenstrain, "traction", *(("betti",) if shared else ()), weights=CONTRACTION)
         # the traction is kept on the patch only: back to the surface, cut, and transformed again
-        traction = surface.spectrum(surface.field(surface.surface(eigenstrain, "traction")))
-        stress += surface.box_stress(traction)
-        return strain_from_stress(stress, self.poisson)
+        stress += surface.box_stress(surface.spectrum(surface.field(spectra[0])))
+        strain = strain_from_stress(stress, self.poisson)
+        if not displacement:
+            return strain
+        return strain, (self.spacing[2] * surface.field(spectra[1]) if shared
+                        else self.surface_displacement(eigenstrain))
 
     def strain_at(self, points, eigenstrain, average=False):
         """Total strain ``(n, 6)`` at arbitrary points ``(n, 3)`` [m] of the half-space, by direct sums.
