@@ -118,7 +118,7 @@ class BoxSurface:
 
     # --- transforms ----------------------------------------------------------------------------
     def _buffers(self):
-        (p1, p2), (m1, m2) = self.fft_shape, self.footprint_shape
+        (p1, p2), m1 = self.fft_shape, self.footprint_shape[0]
         h2 = p2 // 2 + 1
         self._rows_in = fft.zeros((6, m1, p2))
         self._rows_out = fft.zeros((6, m1, h2), complex)

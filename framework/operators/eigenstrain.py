@@ -390,7 +390,7 @@ class HalfSpaceEigenstrain:
         the infinite-space term), transformed by :func:`~framework.operators.parity.half_spectrum` and
         added to the entries it enters (a quarter of the lattice, and no lattice array per entry).
         """
-        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        m3, (n1, n2, n3) = self.shape[2], self.fft_shape
         # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
         # field, a reversal of the other two wavenumbers, a conjugation and this phase in q3.
         flip = np.exp(-2j * np.pi * np.arange(n3 // 2 + 1) * (m3 - 1) / n3)
