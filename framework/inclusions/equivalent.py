@@ -33,7 +33,7 @@ from ..operators.eigenstrain import COMPONENTS, MANDEL, cuboid_potentials, strai
 RESTART = 30
 
 #: Directions of earlier solves the Krylov solver keeps (:class:`RecycledSpace`), and the memory they
-#: may take [bytes] (two values per unknown each: a large box keeps fewer).
+#: may take [bytes] (three values per unknown each: direction, strain, image; a large box keeps fewer).
 RECYCLED = 400
 RECYCLED_BYTES = 128 * 2**20
 #: The recycled space forgets how much a direction was used by this factor per use.
@@ -43,7 +43,7 @@ USE_MEMORY = 0.98
 #: computes its solution's strain by one more product instead of keeping each direction's.
 GMRES_BYTES = 768 * 2**20
 
-#: Memory the Fourier preconditioner's per-wavenumber matrices may take [bytes] (else they are solved anew).
+#: Memory the Fourier preconditioner's per-wavenumber matrices may take [bytes] (else each cuboid is solved alone).
 FOURIER_BYTES = 256 * 2**20
 
 
@@ -83,12 +83,14 @@ class RecycledSpace:
     (Parks et al. 2006, "Recycling Krylov subspaces for sequences of linear systems", SIAM J. Sci.
     Comput. 28): the least-squares part of a residual in their images is solved at once. The
     images are kept orthonormal as directions are added (Gram-Schmidt twice; the directions and
-    strains follow the same combinations), so the oldest can be dropped without touching the
+    strains follow the same combinations), so one can be dropped without touching the
     others; a new matrix modulus (a viscoelastic matrix's changes with the step) recomputes them
     from the strains. When the box has moved since a direction was found, its image is slightly
     off (the surface patch sees the box elsewhere): the preconditioner stays good, and the
-    solution is exact anyway (each new direction's product is). The last :data:`RECYCLED`
-    directions are kept (fewer when they would take more than :data:`RECYCLED_BYTES`).
+    solution is exact anyway (each new direction's product is). :data:`RECYCLED` directions are
+    kept (fewer when they would take more than :data:`RECYCLED_BYTES`); when full, a new one
+    replaces the one the last residuals used least (dropping the oldest lost the gain: the first
+    steps' directions keep serving the later ones).
     """
 
     def __init__(self, size):
@@ -118,7 +120,7 @@ class RecycledSpace:
 
     def _append(self, direction, strain, image):
         """Add one triple, its image orthogonalised against the kept ones (twice) and normalised; when full,
-        the oldest is overwritten (the others stay orthonormal)."""
+        the least used is overwritten (the others stay orthonormal)."""
         triple = np.array([direction, strain, image], dtype=float)
         for _ in range(2):
             weights = self.images @ triple[2]
@@ -393,7 +395,7 @@ class EquivalentInclusionProblem:
     def _gmres(self, right, values, disturbance, tolerance, max_iterations):
         """Restarted flexible GMRES (Saad 1993) on ``A x = b``, preconditioned on the right, that carries ``D[x]``.
 
-        The preconditioner is the local one (each cuboid's exact solve alone), deflated by the
+        The preconditioner is the Fourier one (or each cuboid's exact solve alone), deflated by the
         directions of earlier solves (:class:`RecycledSpace`): ``M v = U y + P (v - C y)``, ``y``
         the least-squares fit of ``v`` by ``C = A U``. Earlier solves' ``A U`` are known without
         products, and stay a good preconditioner when the box has moved since (then they are

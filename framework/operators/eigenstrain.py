@@ -314,7 +314,7 @@ class HalfSpaceEigenstrain:
     kernel spectra of the infinite-space and mirror terms are even or odd in ``q1`` and
     ``q2`` (and, for the first, in ``q3``), so an eighth and a quarter of them are stored
     (36 bytes per point of the padded box, about 290 bytes per box cuboid), plus the six
-    spectra of a product (16 bytes per point, 8 per padded... 6 x 16 / 2 per point) and the
+    spectra of a product (half the padded points each, complex: 48 bytes per point) and the
     surface kernels (2 x 6 per layer, a quarter of the padded surface grid each).
 
     Parameters
