@@ -553,12 +553,20 @@ def _solve_boxed(operator, compliance, base, *, stiffness, options, initial, cel
     started from the box's pressure. Without a start, or when the box would cover most of the grid,
     the whole grid from the beginning.
     """
-    whole = dict(window=operator.window, diagonal=compliance * operator.diagonal, precondition=stiffness,
-                 apply_window=lambda field, box: operator.apply_window(field, box, compliance, copy=False),
-                 cell_area=cell_area, load=load, approach=approach, options=options)
+    def apply(pressure):
+        return operator.apply(pressure, compliance, copy=False)
+
+    def within(field, window):       # a window of the box (the box itself when the window is all of it)
+        return operator.apply_window(field, box if window == (slice(None), slice(None)) else window, compliance,
+                                     copy=False)
+
+    common = dict(window=operator.window, diagonal=compliance * operator.diagonal, precondition=stiffness,
+                  cell_area=cell_area, load=load, approach=approach, options=options)
+    whole = dict(common, apply_window=lambda field, window: operator.apply_window(field, window, compliance,
+                                                                                   copy=False))
     support = None if initial is None else np.asarray(initial) > 0
     if support is None or not support.any():
-        return solve_normal(lambda p: operator.apply(p, compliance, copy=False), base, initial=initial, **whole)
+        return solve_normal(apply, base, initial=initial, **whole)
     box = []
     for axis, n in enumerate(base.shape):
         cells = np.flatnonzero(support.any(axis=1 - axis))
@@ -570,12 +578,9 @@ def _solve_boxed(operator, compliance, base, *, stiffness, options, initial, cel
         box.append(slice(first, first + size))
     box = tuple(box)
     if (box[0].stop - box[0].start) * (box[1].stop - box[1].start) > 0.5 * base.size:
-        return solve_normal(lambda p: operator.apply(p, compliance, copy=False), base, initial=initial, **whole)
-    def within(field, window):       # a window of the box (the box itself when the window is all of it)
-        return operator.apply_window(field, box if window == (slice(None), slice(None)) else window, compliance,
-                                     copy=False)
-    boxed = solve_normal(lambda p: operator.apply_window(p, box, compliance, copy=False), base[box],
-                         initial=np.asarray(initial)[box], **dict(whole, apply_window=within))
+        return solve_normal(apply, base, initial=initial, **whole)
+    boxed = solve_normal(lambda p: within(p, box), base[box], initial=np.asarray(initial)[box],
+                         apply_window=within, **common)
     pressure = np.zeros(base.shape)
     pressure[box] = boxed.pressure
     displacement = operator.apply(pressure, compliance)
@@ -584,7 +589,7 @@ def _solve_boxed(operator, compliance, base, *, stiffness, options, initial, cel
     outside[box] = False
     scale = max(np.abs(displacement).max(), np.finfo(float).tiny)
     if -gap[outside].min(initial=0.0) > options.residual_tolerance * scale:    # the contact left the box
-        return solve_normal(lambda p: operator.apply(p, compliance, copy=False), base, initial=pressure, **whole)
+        return solve_normal(apply, base, initial=pressure, **whole)
     return replace(boxed, pressure=pressure, displacement=displacement, gap=gap)
 
 

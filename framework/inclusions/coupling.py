@@ -170,14 +170,14 @@ class ContactCoupling:
         shape = (*problem.shape, 6)
         if self.eigenstrain is None:
             values, disturbance = np.zeros((inner.material.size, 6)), np.zeros(shape)
+            displacement = np.zeros(problem.grid.shape)
         else:
             values = np.asarray(self.eigenstrain)[inner.cells] * MANDEL
-            disturbance = self.disturbance
-            if disturbance is None:
-                disturbance = operator.strain(inner.box_field(values))
+            disturbance, displacement = self.disturbance, self.displacement
+            if disturbance is None:     # the box moved: both anew (the displacement was only translated)
+                disturbance, displacement = operator.strain(inner.box_field(values), displacement=True)
                 inner.products += 1
-        displacement = operator.surface_displacement(inner.box_field(values))
-        deflation = inner.recycled.preconditioner(inner._coupling_images(), inner.young)
+        deflation = inner.recycled.preconditioner(inner._image, inner.young)
         history = []            # (G, D[G], B G, f) of the last iterates
         directions, strains = [], []
         previous = None
@@ -190,7 +190,7 @@ class ContactCoupling:
             size = np.linalg.norm(right)
             relative = float(np.linalg.norm(residual) / size) if size > 0 else 0.0
             if relative <= self.inclusion_tolerance and (change <= self.tolerance or relative == 0.0):
-                inner.recycled.add(directions, strains, inner._coupling_images(), inner.young)
+                inner.recycled.add(directions, strains, inner._image, inner.young)
                 eigenstrain = inner.box_field(values)
                 stress, field = self._outputs(eigenstrain, disturbance, matrix_stress, strain0)
                 self.eigenstrain, self.disturbance, self.displacement = eigenstrain, disturbance, displacement
@@ -213,8 +213,9 @@ class ContactCoupling:
     def snapshot(self):
         """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
         out = {"inclusion_eigenstrain": self.eigenstrain, "inclusion_start": np.array(self.problem.start)}
-        if self.disturbance is not None:
+        if self.disturbance is not None:    # with the surface displacement the iterates combined (a step starts there)
             out["inclusion_disturbance"] = self.disturbance
+            out["inclusion_displacement"] = np.asarray(self.displacement, dtype=float)
         # the Krylov solver's memory: a resumed run repeats the same iterations
         out.update({f"inclusion_recycled_{key}": value
                     for key, value in self.problem.problem.recycled.snapshot().items()})
@@ -229,7 +230,9 @@ class ContactCoupling:
         if "inclusion_start" in snapshot:    # where the material had carried the box (rolling)
             start = np.asarray(snapshot["inclusion_start"], dtype=int)
             self.problem.move(tuple(int(c) for c in start[:2] - np.array(self.problem.start[:2])))
-        self.displacement = self.problem.operator.surface_displacement(self.eigenstrain)
+        self.displacement = snapshot.get("inclusion_displacement")
+        if self.displacement is None or self.disturbance is None:
+            self.displacement = self.problem.operator.surface_displacement(self.eigenstrain)
         recycled = self.problem.problem.recycled
         recycled.clear()
         if "inclusion_recycled_directions" in snapshot:

@@ -312,7 +312,7 @@ class EquivalentInclusionProblem:
         self.matrix = isotropic_mandel(young, self.operator.poisson)
         self.contrast = [c - self.matrix for c in self.stiffness]
         self._preconditioner = [np.linalg.inv(d @ self._local + self.matrix) for d in self.contrast]
-        if self._fourier is not None and abs(young - self._fourier.young) > 1e-9 * young:
+        if self._fourier is not None and abs(young - self._fourier[0]) > 1e-9 * young:
             self._fourier = None    # built again at its next use (a modulus equal but for rounding keeps it)
 
     @property
@@ -335,7 +335,12 @@ class EquivalentInclusionProblem:
 
     def _apply(self, values, disturbance):
         """``A x`` (Mandel, ``(N, 6)``) of the values ``x`` whose strain ``D[x]`` (box field) is known."""
-        return self.per_material(self.contrast, disturbance[self.cells] * MANDEL) + values @ self.matrix.T
+        return self._image(values, disturbance[self.cells] * MANDEL).reshape(-1, 6)
+
+    def _image(self, values, strains):
+        """``A x`` as a flat vector, from ``x`` and its strain ``D[x]`` on the cuboids (both Mandel, any shape)."""
+        return (self.per_material(self.contrast, np.reshape(strains, (-1, 6)))
+                + np.reshape(values, (-1, 6)) @ self.matrix.T).ravel()
 
     def solve(self, applied_strain, initial=None, tolerance=1e-10, max_iterations=500, raise_on_failure=True):
         """Equivalent eigenstrain for the strain ``applied_strain`` the matrix would have without inhomogeneities.
@@ -418,7 +423,7 @@ class EquivalentInclusionProblem:
         per_iteration = 8 * self.size * (3 if recycling else 2) + (box_bytes if keep_images else 0)
         restart = max(4, min(RESTART, GMRES_BYTES // per_iteration))
         while beta > target and iterations < max_iterations:
-            deflation = self.recycled.preconditioner(self._coupling_images(), self.young)
+            deflation = self.recycled.preconditioner(self._image, self.young)
             size = min(restart, self.size, max_iterations - iterations)
             basis = np.empty((size + 1, self.size))
             directions, images, cells_images = [], [], []
@@ -437,7 +442,7 @@ class EquivalentInclusionProblem:
                     cells_images.append(cells_image)
                 if keep_images:
                     images.append(image)
-                w = (self.per_material(self.contrast, cells_image) + direction.reshape(-1, 6) @ self.matrix.T).ravel()
+                w = self._image(direction, cells_image)
                 del image
                 h = basis[:j + 1] @ w
                 w -= h @ basis[:j + 1]
@@ -469,28 +474,22 @@ class EquivalentInclusionProblem:
             else:
                 disturbance = disturbance + self.operator.strain(self.box_field(step))
                 self.products += 1
-            self.recycled.add(directions[:used], cells_images[:used], self._coupling_images(), self.young)
+            self.recycled.add(directions[:used], cells_images[:used], self._image, self.young)
             del directions, images, cells_images
             residual = right - self._apply(values, disturbance).ravel()
             beta = np.linalg.norm(residual)
         return values, disturbance, iterations, float(beta / scale)
-
-    def _coupling_images(self):
-        """How the recycled directions' strains ``D[u]`` become images ``A u`` for the current modulus."""
-        return lambda directions, strains: (self.per_material(self.contrast, strains.reshape(-1, 6))
-                                            + directions.reshape(-1, 6) @ self.matrix.T).ravel()
 
     def _local_solve(self, vector):
         """The preconditioner without deflation: the Fourier one, or each cuboid solved alone."""
         values = vector.reshape(-1, 6)
         if self.preconditioner == "local":
             return self.per_material(self._preconditioner, values).ravel()
-        if self._fourier is None:
-            self._fourier = FourierPreconditioner(self.operator, self.contrast[0], self.matrix)
-            self._fourier.young = self.young
+        if self._fourier is None:      # (the modulus it was built for, the preconditioner)
+            self._fourier = (self.young, FourierPreconditioner(self.operator, self.contrast[0], self.matrix))
         field = np.zeros((*self.operator.shape, 6))
         field[self.cells] = values
-        return self._fourier(field)[self.cells].ravel()
+        return self._fourier[1](field)[self.cells].ravel()
 
     def _precondition(self, vector, deflation):
         """``M v``: the recycled directions' least-squares part, the preconditioner on the rest."""
