@@ -44,3 +44,7 @@ class FrameworkWarning(UserWarning):
 
 class CoverageWarning(FrameworkWarning):
     """A fit claims more than its data cover, e.g. Prony relaxation times outside the times the data span."""
+
+
+class DataWarning(FrameworkWarning):
+    """Points of measured data were dropped (unusable values, repeated frequencies): the warning lists each."""
