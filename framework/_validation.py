@@ -21,10 +21,15 @@ LIMITS = {
     "s": (1e-15, 1e15),    # times: a femtosecond to thirty million years
     "N": (0.0, 1e12),      # loads (a history passes through small values: no lower limit)
     "m/s": (1e-15, 1e9),   # speeds: far slower than any creep test to far faster than any sound wave
-    "rad/s": (1e-15, 1e15),  # angular frequencies: the inverse range of the times
+    "rad/s": (1e-40, 1e40),  # angular frequencies: the inverse range of the relaxation times
     "K": (1e-3, 1e5),      # temperatures: a millikelvin to far hotter than any polymer survives
     "J/mol": (1e-3, 1e9),  # activation energies: far below and above any molecular process
 }
+#: Relaxation and retardation times [s] of a material, wider than the times of a run: a polymer's master curve spans
+#: 30-35 decades of relaxation times at one temperature, and shifted 20 decades to another (its DMA range) some
+#: reach 1e-30 s or 1e35 s: physically instantaneous or permanent, numerically harmless (t/tau < 1e80 for any time
+#: of a run). The reduced frequencies of a master curve span the inverse range (LIMITS["rad/s"]).
+RELAXATION_TIMES = (1e-40, 1e40)
 
 
 def _is_real(value):
@@ -54,13 +59,14 @@ def check_non_negative(value, *, name, unit=""):
     return value
 
 
-def check_quantity(value, *, name, unit, zero=False, lower=True):
+def check_quantity(value, *, name, unit, zero=False, lower=True, limits=None):
     """Return ``value`` as a float if it is finite, > 0 (>= 0 with ``zero``) and, unless 0, within ``LIMITS[unit]``.
 
-    ``lower=False`` waives the lower limit (a Prony term may be arbitrarily weak next to the others).
+    ``lower=False`` waives the lower limit (a Prony term may be arbitrarily weak next to the others); ``limits``
+    replaces ``LIMITS[unit]`` (relaxation times: :data:`RELAXATION_TIMES`).
     """
     value = check_non_negative(value, name=name, unit=unit) if zero else check_positive(value, name=name, unit=unit)
-    low, high = LIMITS[unit]
+    low, high = LIMITS[unit] if limits is None else limits
     low = low if lower else 0.0
     if value and not low <= value <= high:
         raise ParameterError(f"{name} must lie between {low:g} and {high:g} {unit}{' (or be 0)' if zero else ''}, "

@@ -80,7 +80,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from .._validation import LIMITS, check_poisson, check_positive, check_quantity, check_real
+from .._validation import LIMITS, RELAXATION_TIMES, check_poisson, check_positive, check_quantity, check_real
 from ..errors import ParameterError
 from .base import ComplianceSeries, DynamicModuli, check_frequencies
 from .temperature import Shift, check_temperatures
@@ -116,7 +116,7 @@ def _check_terms(terms, *, name, coefficient, unit, time):
             raise ParameterError(f"{name}[{i}] must be a ({coefficient} [{unit}], {time} [s]) pair, "
                                  f"got {term!r}") from exc
         value = check_quantity(value, name=f"{name}[{i}] {coefficient}", unit=unit, lower=False)
-        tau = check_quantity(tau, name=f"{name}[{i}] {time}", unit="s")
+        tau = check_quantity(tau, name=f"{name}[{i}] {time}", unit="s", limits=RELAXATION_TIMES)
         for j, (_, other) in enumerate(checked):
             if tau == other:
                 raise ParameterError(
@@ -297,7 +297,8 @@ class Viscoelastic(DynamicModuli):
 
     Moduli lie between 1e-3 and 1e15 Pa (a term's modulus may be smaller: a term
     too weak to resolve in double precision is refused by name) and times
-    between 1e-15 and 1e15 s (``framework._validation.LIMITS``), shifted or not.
+    between 1e-40 and 1e40 s (``framework._validation.RELAXATION_TIMES``: a
+    master curve's), shifted or not.
     """
 
     e_inf: float
@@ -339,7 +340,7 @@ class Viscoelastic(DynamicModuli):
             object.__setattr__(self, "temperature", self.shift.reference)
         object.__setattr__(self, "temperature", float(check_temperatures(self.temperature)))
         factor = self.shift.factor(self.temperature)
-        low, high = LIMITS["s"]
+        low, high = RELAXATION_TIMES
         for i, (_, tau) in enumerate(self.terms):
             if not low <= tau * factor <= high:
                 raise ParameterError(
