@@ -17,7 +17,8 @@ from .errors import ParameterError
 def _registry():
     from . import grid, inclusions, indenters, loads, materials, schedules, simulation, solver
     classes = [grid.Grid, materials.Elastic, materials.Viscoelastic, materials.Maxwell, materials.KelvinVoigt,
-               materials.AnisotropicElastic, materials.WLF, materials.Arrhenius, inclusions.Ellipsoid, inclusions.InclusionSet,
+               materials.AnisotropicElastic, materials.WLF, materials.Arrhenius,
+               materials.WLFArrhenius, inclusions.Ellipsoid, inclusions.InclusionSet,
                indenters.Sphere, indenters.FlatPunch, indenters.RoundedFlatPunch, indenters.Cylinder,
                indenters.HeightMap, loads.Step, loads.Ramp, loads.Hold, loads.Table, loads.Cyclic, loads.Sequence,
                schedules.Static, schedules.Eccentric, schedules.Rolling, simulation.Options, solver.SolverOptions]

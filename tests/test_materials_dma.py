@@ -167,13 +167,14 @@ def test_dynamic_fit_of_a_broad_spectrum_converges_with_the_terms():
     assert errors_[0] > errors_[1] > errors_[2] and errors_[2] < 0.05
 
 
-def test_dynamic_fit_warns_when_its_times_leave_the_data():
-    """Data over 1..100 rad/s (times 0.01..1 s) of a solid with a 100 s term: the fitted long time is a guess."""
+def test_dynamic_fit_keeps_its_times_inside_the_data():
+    """Data over 1..100 rad/s (times 0.01..1 s) of a solid with a 100 s term: no fitted time lies more than half a
+    decade beyond 0.01..1 s (a time further out is a guess the data cannot check)."""
     solid = Viscoelastic.from_prony(e_inf=1e6, terms=[(5e7, 0.1), (2e7, 100.0)], poisson=0.45)
     w = np.geomspace(1.0, 100.0, 15)
-    with pytest.warns(errors.CoverageWarning, match=r"outside 1/w_max \.\. 1/w_min = 0\.01 \.\. 1 s"):
-        fit = fit_prony(w, solid.complex_modulus(w), kind="dynamic", n_terms=2, poisson=0.45)
-    assert fit.terms[-1][1] > 1.0
+    fit = fit_prony(w, solid.complex_modulus(w), kind="dynamic", n_terms=2, poisson=0.45)
+    assert all(0.01 / 10**0.5 * (1 - 1e-12) <= tau <= 10**0.5 * (1 + 1e-12) for _, tau in fit.terms)
+    assert fit.rms_relative_error < 0.05
 
 
 @pytest.mark.parametrize("w, values, kwargs, error, message", [
@@ -376,7 +377,7 @@ def test_master_curve_recovers_known_shift_factors(noise, tolerance, constants):
     with warnings.catch_warnings():   # the spectrum runs on beyond the data: the edge terms may leave them
         warnings.simplefilter("ignore", errors.CoverageWarning)
         fit = curve.fit_prony(12, poisson=0.45)
-    assert fit.rms_relative_error < 0.002 + noise   # measured 0.0014 exact, 0.0100 noisy
+    assert fit.rms_relative_error < 0.003 + noise   # measured 0.0022 exact, 0.0100 noisy 
     # the fitted solid at the reference against the true one over the master curve's reduced frequencies
     w = np.geomspace(curve.frequencies[0], curve.frequencies[-1], 50)
     for part in ("storage_modulus", "loss_modulus"):   # measured 0.7 % exact, 1.2 % noisy
@@ -482,31 +483,187 @@ times = [0.0, 1.0]
 
 # --------------------------------------------------------------------------- the example's data and chain
 
-def test_the_example_data_are_the_published_constants_computed():
-    """examples/data/dma_sweeps.csv: the seed-001 PMMA series under the universal WLF law, to its 7 digits."""
-    path = os.path.join(EXAMPLES, "data", "dma_sweeps.csv")
-    with open(path) as f:
-        assert "COMPUTED, NOT MEASURED" in f.readline()
-    table = np.loadtxt(path, delimiter=",", comments="#")
-    law = WLF(c1=17.44, c2=51.6, reference=296.15)
-    pmma = Viscoelastic(e_inf=1973e6, terms=[(254.776e6, 8.93), (263.6628e6, 117.96)], poisson=0.35)
-    for temperature, frequency, storage, loss in table:
-        expected = pmma.at(temperature, law).complex_modulus(2 * np.pi * frequency)
-        assert (storage, loss) == pytest.approx((expected.real, expected.imag), rel=1e-6)
-    assert sorted(set(table[:, 0])) == pytest.approx(296.15 + np.arange(-5.0, 26.0, 5.0))
+# --------------------------------------------------------------------------- measured data: pyvisco's example set
+
+MEASURED = os.path.join(EXAMPLES, "data", "dma", "pyvisco_freq_raw.csv")
+#: pyvisco 2.1.3's own pipeline on that file (load.user_raw, master.get_aT at -5 degC, shift.fit_WLF, prony.fit,
+#: opt.nprony), as bench/dma.py measures it beside ours: downward variation of log10 E' along the master curve, its
+#: term count and the rms log10 errors of its fit on storage and loss; WLF constants at -5 degC.
+PYVISCO = {"downward_variation": 0.103, "terms": 19, "storage": 0.0139, "loss": 0.236, "c1": 99.45, "c2": 423.5}
 
 
-def test_the_example_chain_gives_the_published_constants_back():
-    """Sweeps -> master curve -> WLF and a 2-term Prony fit: the constants the data were computed from, to 1e-4."""
-    example = runpy.run_path(os.path.join(EXAMPLES, "dma_to_rolling.py"))
-    curve = master_curve(example["read_sweeps"](), reference=296.15)
-    law = WLF(c1=17.44, c2=51.6, reference=296.15)
-    assert np.log10(curve.shift_factors) == pytest.approx(law.log10_factor(curve.temperatures), abs=1e-4)
+def downward_variation(curve):
+    """Total decrease of log10 E' along the master curve's sorted reduced frequencies (0 for a monotone curve)."""
+    return float(np.sum(np.maximum(0.0, -np.diff(np.log10(curve.complex_modulus.real)))))
+
+
+def rms_log10(fit, curve):
+    """rms log10 error of the fit at the master curve's points: (storage, loss)."""
+    return tuple(float(np.sqrt(np.mean(np.log10(part(fit.fitted) / part(curve.complex_modulus))**2)))
+                 for part in (np.real, np.imag))
+
+
+@pytest.fixture(scope="module")
+def measured():
+    """The measured sweeps, their master curve at -5 degC (pyvisco's reference), its default fit and laws."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")   # default settings: no warning, no exception
+        sweeps = materials.read_dma(MEASURED)
+        curve = master_curve(sweeps, reference=min(sweeps, key=lambda t: abs(t - 268.15)))
+        return sweeps, curve, curve.fit_prony(poisson=0.35)
+
+
+def test_measured_master_curve_is_at_least_as_monotone_as_pyvisco(measured):
+    """Downward variation of log10 E': ours 0.098 against pyvisco's 0.103 (the old pairwise fit of both moduli:
+    2.06, with the glassy sweeps piled in one frequency window); shift factors monotone in temperature."""
+    _, curve, _ = measured
+    assert downward_variation(curve) <= PYVISCO["downward_variation"]
+    assert np.all(np.diff(np.log10(curve.shift_factors)) < 0)
+    assert curve.frequencies.size == 210 and np.all(np.diff(curve.frequencies) >= 0)
+    # the span pyvisco finds too (2.8e-19 .. 1.1e13 rad/s at -5 degC): about 31 decades
+    assert 30 < np.log10(curve.frequencies[-1] / curve.frequencies[0]) < 33
+
+
+def test_measured_glass_transition_and_physical_wlf(measured):
+    """The loss peak at 1 Hz lies between the 47.5 and 55 degC sweeps; WLF from there up has the constants of an
+    amorphous polymer (measured c1 = 17.2, c2 = 111 K at 55 degC; pyvisco's through all factors: 99, 424 K at
+    -5 degC, the old fit's 4e9, 3e10); the whole-range law is exact at the reference and above T_g."""
+    _, curve, _ = measured
+    tg = curve.glass_transition
+    assert 273.15 + 47.5 < tg < 273.15 + 55.0
     wlf = curve.fit_wlf()
-    assert (wlf.c1, wlf.c2) == pytest.approx((17.44, 51.6), rel=1e-4)   # measured 2e-5
-    fit = curve.fit_prony(2, poisson=0.35)
-    assert relative_errors(fit, materials.PMMA) < 1e-4                  # measured 4e-5
-    assert fit.rms_relative_error < 1e-4
+    assert wlf.reference == pytest.approx(273.15 + 55.0, abs=0.5)
+    assert 10 < wlf.c1 < 30 and 30 < wlf.c2 < 200
+    law = curve.fit_shift()
+    assert isinstance(law, materials.WLFArrhenius) and law.glass_transition == tg
+    assert 10 < law.c1 < 30 and 30 < law.c2 < 200 and 1e5 < law.activation_energy < 1e6
+    above = curve.temperatures >= tg
+    assert law.log10_factor(curve.temperatures[above]) == pytest.approx(np.log10(curve.shift_factors[above]), abs=0.1)
+    assert law.factor(curve.reference) == 1.0
+
+
+def test_measured_prony_fit_beats_pyvisco(measured):
+    """Default fit: 24 terms (one per decade and within 1.1x its residual), rms log10 errors 0.004 / 0.16 on
+    storage / loss; at pyvisco's own 19 terms 0.006 / 0.19; pyvisco's 19-term fit: 0.014 / 0.24. Every time
+    inside half a decade of the data."""
+    _, curve, fit = measured
+    storage, loss = rms_log10(fit, curve)
+    assert storage < PYVISCO["storage"] and loss < PYVISCO["loss"]
+    same = curve.fit_prony(PYVISCO["terms"], poisson=0.35)
+    assert len(same.terms) <= PYVISCO["terms"]
+    storage, loss = rms_log10(same, curve)
+    assert storage < PYVISCO["storage"] and loss < PYVISCO["loss"]
+    span = 1 / curve.frequencies[-1] / 10**0.5, 1 / curve.frequencies[0] * 10**0.5
+    assert all(span[0] <= tau <= span[1] for _, tau in fit.terms)
+
+
+def test_the_measured_material_rolls_at_every_temperature_of_the_data(measured):
+    """The fitted solid taken across the data's range (31 decades of times shifted by up to 23 more) is a valid
+    material at each temperature: its storage modulus at 1 Hz falls from the glass to the rubber as measured."""
+    sweeps, curve, fit = measured
+    law = curve.fit_shift()
+    measured_1hz, model_1hz = [], []
+    for temperature, (w, modulus) in sweeps.items():
+        solid = fit.material.at(temperature, law)
+        measured_1hz.append(np.interp(np.log(2 * np.pi), np.log(w), modulus.real))
+        model_1hz.append(solid.storage_modulus(2 * np.pi))
+    ratio = np.array(model_1hz) / np.array(measured_1hz)
+    above = np.array(list(sweeps)) >= curve.glass_transition
+    assert np.all(np.abs(np.log10(ratio[above])) < 0.05)       # WLF range: within 12 %
+    assert np.all(np.abs(np.log10(ratio)) < 0.15)              # the glass too, where the law is Arrhenius
+
+
+# --------------------------------------------------------------------------- a round trip through a file
+
+def written_sweeps(path, material, law, temperatures, noise, seed):
+    """Sweeps 0.1-100 Hz of ``material.at(T, law)`` with relative noise, as a plain CSV in MPa, Hz and degC."""
+    rng = np.random.default_rng(seed)
+    f = np.geomspace(0.1, 100.0, 10)
+    lines = ["f [Hz],E' [MPa],E'' [MPa],T [degC]"]
+    for temperature in temperatures:
+        exact = material.at(temperature, law).complex_modulus(2 * np.pi * f)
+        storage = exact.real * (1 + noise * rng.standard_normal(f.size))
+        loss = exact.imag * (1 + noise * rng.standard_normal(f.size))
+        lines += [f"{a:.17g},{b / 1e6:.17g},{c / 1e6:.17g},{temperature - 273.15:.17g}" for a, b, c in zip(f, storage, loss)]
+    fields = lines[5].split(",")
+    lines[5] = ",".join([fields[0], fields[1], "-1.0", fields[3]])                           # a negative E''
+    fields = lines[40].split(",")
+    lines[40] = ",".join([fields[0], fields[1], f"{20 * float(fields[1]):.17g}", fields[3]])   # tan delta 20
+    with open(path, "w") as f_:
+        f_.write("\n".join(lines) + "\n")
+
+
+def test_round_trip_from_a_prony_series_and_wlf_through_a_file(tmp_path):
+    """BROAD under WLF, eleven sweeps 5 K apart (10 points each), 0.5 % noise on both moduli (a DMA's
+    repeatability) and two instrument-limit points (a negative loss modulus, a loss tangent of 20), written as a
+    CSV in MPa, Hz and degC: the reader drops exactly the two with one warning; the shifts come back within 0.05
+    decades (measured 0.013; 0.009-0.023 over six seeds), the WLF constants within 10 %, and the default Prony
+    fit (13 terms) lies within 2 % of the true solid where the data cover it, half a decade in from their ends,
+    where the spectrum beyond them no longer shows (measured 1.3 %; 1.1-1.8 % over six seeds; with 1 % noise
+    1.4-2.3 % and 0.02-0.05 decades)."""
+    temperatures = 373.0 + np.arange(-25.0, 30.0, 5.0)
+    path = tmp_path / "sweeps.csv"
+    written_sweeps(path, BROAD, UNIVERSAL, temperatures, noise=0.005, seed=3)
+    with pytest.warns(errors.DataWarning, match=r"2 of 110 points .* dropped: line 6: .*line 41: ") as record:
+        sweeps = materials.read_dma(str(path))
+    assert len(record) == 1 and len(sweeps.dropped) == 2
+    assert sum(w.size for w, _ in sweeps.values()) == 11 * 10 - 2
+    curve = master_curve(sweeps, reference=373.0)
+    assert np.log10(curve.shift_factors) == pytest.approx(UNIVERSAL.log10_factor(curve.temperatures), abs=0.05)
+    law = curve.fit_shift()
+    assert isinstance(law, WLF)   # the loss peak at 1 Hz lies inside (353.6 K), but WLF follows every factor
+    assert (law.c1, law.c2, law.reference) == pytest.approx((8.86, 101.6, 373.0), rel=0.1)
+    fit = curve.fit_prony(poisson=0.45)
+    w = np.geomspace(curve.frequencies[0] * 10**0.5, curve.frequencies[-1] / 10**0.5, 60)
+    for part in ("storage_modulus", "loss_modulus"):
+        assert np.max(np.abs(getattr(fit.material, part)(w) / getattr(BROAD, part)(w) - 1)) < 0.02
+
+
+# --------------------------------------------------------------------------- WLF above the glass transition, Arrhenius below
+
+def test_wlf_arrhenius_is_continuous_and_each_branch_is_its_law():
+    """Against the two laws written out here: WLF at T_g above it, Arrhenius below, a_T = 1 at the reference."""
+    law = materials.WLFArrhenius(c1=17.44, c2=51.6, glass_transition=320.0, activation_energy=2e5, reference=300.0)
+    wlf = WLF(c1=17.44, c2=51.6, reference=320.0)
+    arrhenius = Arrhenius(activation_energy=2e5, reference=320.0)
+    offset = arrhenius.log10_factor(300.0)
+    for t in (320.0, 330.0, 380.0):
+        assert law.log10_factor(t) == pytest.approx(wlf.log10_factor(t) - offset, abs=1e-12)
+    for t in (250.0, 300.0, 319.9):
+        assert law.log10_factor(t) == pytest.approx(arrhenius.log10_factor(t) - offset, abs=1e-12)
+    assert law.factor(300.0) == 1.0
+    assert law.log10_factor(320.0 - 1e-9) == pytest.approx(law.log10_factor(320.0 + 1e-9), abs=1e-8)
+    assert build(describe(law)) == law
+
+
+def test_wlf_arrhenius_fit_recovers_its_constants_and_tg_from_sweeps():
+    """Factors of a known law (reference above and below T_g) give its constants back to 1e-6; sweeps of a solid
+    under it show the loss peak at 1 Hz within 1 K of where a_T(T) tau = 1/(2 pi) for its dominant arm."""
+    true = materials.WLFArrhenius(c1=15.0, c2=60.0, glass_transition=330.0, activation_energy=3e5, reference=340.0)
+    temperatures = np.arange(300.0, 381.0, 5.0)
+    for reference in (340.0, 310.0):
+        factors = 10.0 ** (true.log10_factor(temperatures) - true.log10_factor(reference))
+        fitted = materials.WLFArrhenius.fit(temperatures, factors, reference, 330.0)
+        assert (fitted.c1, fitted.c2, fitted.activation_energy) == pytest.approx((15.0, 60.0, 3e5), rel=1e-6)
+    solid = Viscoelastic.from_prony(e_inf=2e8, terms=[(1e9, 1.0)], poisson=0.45)   # one arm: E'' peaks at w tau a_T = 1
+    data = sweeps(solid, true, np.arange(320.0, 361.0, 2.0))
+    curve = master_curve(data, reference=340.0)
+    peak = minimize_scalar(lambda t: abs(true.log10_factor(t) + math.log10(2 * math.pi)), bounds=(320.0, 360.0),
+                           method="bounded").x
+    assert curve.glass_transition == pytest.approx(peak, abs=1.0)
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: materials.WLFArrhenius(c1=-1.0, c2=50.0, glass_transition=300.0, activation_energy=1e5, reference=300.0),
+     r"c1 must be positive"),
+    (lambda: materials.WLFArrhenius(c1=17.0, c2=50.0, glass_transition=-3.0, activation_energy=1e5, reference=300.0),
+     r"glass_transition must be a temperature in kelvin"),
+    (lambda: materials.WLFArrhenius.fit([300.0, 310.0, 320.0], [1.0, 0.1, 0.01], 300.0, 315.0),
+     r"glass_transition 315 K must leave at least three temperatures at or above it"),
+])
+def test_bad_wlf_arrhenius_is_refused_by_name(make, message):
+    with pytest.raises(errors.ParameterError, match=message):
+        make()
 
 
 def test_rolling_friction_obeys_time_temperature_superposition():

@@ -40,7 +40,7 @@ from scipy.optimize import least_squares
 from .._validation import LIMITS, check_finite_array, check_positive, check_quantity
 from ..errors import ParameterError, ShapeError
 
-__all__ = ["Arrhenius", "GAS_CONSTANT", "Shift", "WLF", "check_temperatures"]
+__all__ = ["Arrhenius", "GAS_CONSTANT", "Shift", "WLF", "WLFArrhenius", "check_temperatures"]
 
 #: Molar gas constant R [J/(mol K)] (CODATA 2018: exact, from the Boltzmann and Avogadro constants).
 GAS_CONSTANT = 8.314462618
@@ -223,3 +223,117 @@ class Arrhenius(Shift):
             raise ParameterError(f"factors must fall as the temperature rises (a_T > 1 below the reference, < 1 "
                                  f"above) for an Arrhenius law, got a fitted activation energy of {energy:.6g} J/mol")
         return cls(activation_energy=energy, reference=reference)
+
+
+@dataclass(frozen=True)
+class WLFArrhenius(Shift):
+    """WLF above the glass transition, Arrhenius below it, joined at ``glass_transition``; ``a_T = 1`` at ``reference``.
+
+    ``log10 a_T = L(T) - L(T_ref)`` with, about ``T_g`` = ``glass_transition``::
+
+        L(T) = -c1 (T - T_g) / (c2 + T - T_g)                 T >= T_g   (WLF, constants at T_g)
+        L(T) = E_a / (R ln 10) (1/T - 1/T_g)                  T <  T_g   (Arrhenius)
+
+    The usual description of an amorphous polymer over its whole DMA range
+    (Ferry 1980, ch. 11 and 17: free volume above ``T_g``, an activated process
+    in the glass): continuous at ``T_g``, never singular (the WLF branch is used
+    only above ``T_g``). Unlike :class:`WLF`, the reference may lie on either
+    side of ``T_g``, so the law of a master curve at a glassy reference is one
+    object (:meth:`MasterCurve.fit_shift <framework.materials.MasterCurve.fit_shift>`).
+
+    Parameters
+    ----------
+    c1 : float
+        WLF constant at ``T_g``, > 0 (17.44 "universal").
+    c2 : float
+        WLF constant at ``T_g`` [K], > 0 (51.6 K "universal").
+    glass_transition : float
+        ``T_g`` [K], where the branches join.
+    activation_energy : float
+        ``E_a`` of the glassy branch [J/mol], > 0.
+    reference : float
+        ``T_ref`` [K], where ``a_T = 1``.
+    """
+
+    c1: float
+    c2: float
+    glass_transition: float
+    activation_energy: float
+    reference: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "c1", check_positive(self.c1, name="c1"))
+        object.__setattr__(self, "c2", check_positive(self.c2, name="c2", unit="K"))
+        object.__setattr__(self, "glass_transition",
+                           float(check_temperatures(self.glass_transition, name="glass_transition")))
+        object.__setattr__(self, "activation_energy",
+                           check_quantity(self.activation_energy, name="activation_energy", unit="J/mol"))
+        object.__setattr__(self, "reference", float(check_temperatures(self.reference, name="reference")))
+
+    @staticmethod
+    def _branches(values, c1, c2, tg, energy):
+        above = values - tg
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wlf = -c1 * above / (c2 + np.maximum(above, 0.0))
+        arrhenius = energy / (GAS_CONSTANT * math.log(10.0)) * (1.0 / values - 1.0 / tg)
+        return np.where(above >= 0.0, wlf, arrhenius)
+
+    def log10_factor(self, temperature):
+        """``log10 a_T = L(T) - L(T_ref)`` at ``temperature`` [K] (class docstring)."""
+        values = check_temperatures(temperature)
+        law = (self.c1, self.c2, self.glass_transition, self.activation_energy)
+        return _scalar_or_array(self._branches(values, *law) - self._branches(np.asarray(self.reference), *law),
+                                temperature)
+
+    @classmethod
+    def fit(cls, temperatures, factors, reference, glass_transition):
+        """The law through measured shift factors, ``T_g`` given.
+
+        The WLF branch first, from the factors at and above ``T_g`` alone
+        (``c1``, ``c2`` and the branch's offset by least squares in ``log10
+        a_T``): so that its constants stay those of the rubbery and transition
+        range, whatever the glass does. Then ``E_a``: with the reference below
+        ``T_g``, the Arrhenius line through ``T_g`` and ``a_T(T_ref) = 1`` (so the
+        law is exact at the reference and follows the WLF range); with the
+        reference above, by least squares over the factors below ``T_g``.
+
+        Parameters
+        ----------
+        temperatures, factors : array_like
+            Temperatures [K] and shift factors ``a_T`` (not their logarithms), > 0.
+        reference : float
+            ``T_ref`` [K] of the factors (where ``a_T = 1``).
+        glass_transition : float
+            ``T_g`` [K]: at least three temperatures must lie at or above it, one below.
+
+        Returns
+        -------
+        WLFArrhenius
+        """
+        x, y, reference = _check_factors(temperatures, factors, reference)
+        temperatures, y = np.append(x + reference, reference), np.append(y, 0.0)   # a_T(T_ref) = 1 is a factor too
+        tg = float(check_temperatures(glass_transition, name="glass_transition"))
+        above, below = temperatures >= tg, temperatures < tg
+        if above.sum() < 3 or below.sum() < 1:
+            raise ParameterError(f"glass_transition {tg:g} K must leave at least three temperatures at or above it and "
+                                 f"one below to fit both branches, got {int(above.sum())} above and "
+                                 f"{int(below.sum())} below")
+        t_above, y_above = temperatures[above] - tg, y[above]
+
+        def branch(p):   # c1, c2, offset
+            return -p[0] * t_above / (p[1] + t_above) + p[2] - y_above
+
+        c1, c2, offset = least_squares(branch, [17.44, 51.6, float(np.mean(y_above))], x_scale=[10.0, 50.0, 1.0],
+                                       bounds=([1e-9, 1e-9, -np.inf], np.inf), xtol=1e-14, ftol=1e-14, gtol=1e-14).x
+        inverse = 1.0 / temperatures[below] - 1.0 / tg
+        if reference < tg:
+            # the glassy branch through (T_g, offset) and (T_ref, 0): the WLF range and the reference stay exact
+            energy = -offset * GAS_CONSTANT * math.log(10.0) / (1.0 / reference - 1.0 / tg)
+        else:
+            # offset at T_g fixed by the WLF branch: E_a by least squares below T_g (linear)
+            energy = GAS_CONSTANT * math.log(10.0) * float(inverse @ (y[below] - offset)) / float(inverse @ inverse)
+        if not energy > 0:
+            raise ParameterError(f"factors must fall as the temperature rises below glass_transition {tg:g} K for an "
+                                 f"Arrhenius branch, got a fitted activation energy of {energy:.6g} J/mol")
+        return cls(c1=float(c1), c2=float(c2), glass_transition=tg, activation_energy=float(energy),
+                   reference=reference)
