@@ -8,15 +8,19 @@ written as ``type = "ClassName"`` plus their keyword arguments (the same form
 as :func:`framework.config.describe`); a material may instead name a preset
 (``preset = "PMMA"``), and a viscoelastic one may take ``temperature`` [K] with
 a ``shift`` table (``{type = "WLF", c1, c2, reference}`` or ``{type =
-"Arrhenius", activation_energy, reference}``). Times are a list or a range table
-``{start, stop, count, spacing = "geometric" | "linear", zero = true}``.
-See ``examples/*.toml``.
+"Arrhenius", activation_energy, reference}``); a viscoelastic one may also be
+fitted to a DMA file, ``material = {dma = "sweeps.csv", reference, poisson}``
+(:func:`_dma_material`; the file lies in the scenario file's folder). Times are
+a list or a range table ``{start, stop, count, spacing = "geometric" |
+"linear", zero = true}``. See ``examples/*.toml``.
 
 Any mistake raises :class:`ScenarioError` naming the file, the key and the
 problem.
 """
 import dataclasses
 import os
+import pathlib
+import warnings
 
 import numpy as np
 
@@ -37,6 +41,12 @@ REQUIRED = ("grid", "material", "indenter", "schedule")
 PRESETS = {"PMMA": lambda: materials.PMMA}
 OUTPUT_KEYS = {"vtu", "steps", "volume_steps", "single", "pictures", "history"}
 PICTURE_KEYS = {"field", "step", "kind", "file"}
+#: Keys of a material fitted to a DMA file (``material = {dma = "sweeps.csv", ...}``, :func:`_dma_material`).
+DMA_KEYS = ("dma", "reference", "poisson", "temperature", "terms", "modulus", "shift")
+#: [K] A DMA material's ``reference`` names the sweep this near it: an instrument holds an isotherm within ~0.1 K
+#: and sets them several kelvin apart (the same 0.5 K that groups a file's points into sweeps), so 268.15 K
+#: (-5 degC as written) names the sweep the instrument read at 268.39 K; a sweep further away is never taken instead.
+SAME_SWEEP = 0.5
 #: Files a run writes itself: a picture must not take their names.
 RUN_FILES = {"summary.csv", "result.h5", "checkpoint.h5", "INCOMPLETE", "configuration.json"}
 
@@ -108,15 +118,18 @@ def _times(value, name):
     return value
 
 
-def _material(table):
-    """The ``[material]`` table: a described material, a preset, or a creep series (``j0``).
+def _material(table, folder=None):
+    """The ``[material]`` table: a described material, a preset, a creep series (``j0``) or a DMA file (``dma``).
 
     Any viscoelastic one may carry ``temperature`` [K] and ``shift`` (a WLF or
     Arrhenius table, ``{type = "WLF", c1, c2, reference}``): its series is then
     the one at ``shift.reference``, taken to ``temperature`` (as
     :class:`framework.materials.Viscoelastic` reads them, so that a result's
-    configuration reads back the same).
+    configuration reads back the same). A DMA file is found in ``folder``, the
+    scenario file's (:func:`_dma_material`).
     """
+    if "dma" in table:
+        return _dma_material(table, folder)
     thermal = {key: build(table[key], name=f"material.{key}") for key in ("temperature", "shift") if key in table}
     if "preset" in table:
         unknown = set(table) - {"preset", "poisson", "temperature", "shift"}
@@ -146,6 +159,169 @@ def _material(table):
         except ParameterError as exc:
             raise ParameterError(f"material: {exc}") from exc
     return build(table, name="material")
+
+
+def _dma_path(value, folder):
+    """The file ``material.dma`` names, as an absolute path: relative to ``folder`` and inside it, links followed."""
+    where = "material.dma"
+    if not isinstance(value, str) or not value.strip():
+        raise ParameterError(f"{where}: expected the path of a DMA file relative to the scenario file's folder, "
+                             f"got {value!r}")
+    if folder is None:
+        raise ParameterError(f"{where}: a DMA file is found relative to the scenario file's folder, and these tables "
+                             f"come from no file; got {value!r} (read the scenario with scenario.read(path), or "
+                             f"give parse(..., folder=...))")
+    if os.path.isabs(value) or pathlib.PureWindowsPath(value).anchor:
+        raise ParameterError(f"{where}: expected a path relative to the scenario file's folder, got the absolute "
+                             f"path {value!r}")
+    base = pathlib.Path(folder).resolve()
+    try:
+        path = (base / value).resolve()
+    except (OSError, RuntimeError) as exc:   # a loop of links
+        raise ParameterError(f"{where}: cannot follow {value!r} from {str(base)!r}: {exc}") from exc
+    # resolved first, so that neither ".." nor a link can lead out of the folder
+    if not path.is_relative_to(base):
+        raise ParameterError(f"{where}: expected a file inside the scenario file's folder {str(base)!r}, got "
+                             f"{value!r}, which leads to {str(path)!r}")
+    if not path.is_file():
+        what = "a folder" if path.is_dir() else "no such file"
+        raise ParameterError(f"{where}: expected a DMA file in the scenario file's folder {str(base)!r}, got "
+                             f"{value!r}: {what}")
+    return str(path)
+
+
+def _read_sweeps(path, poisson, modulus, reference):
+    """The sweeps of a DMA file; a master curve (no temperature column) is read at ``reference`` [K]."""
+    try:
+        return materials.read_dma(path, poisson, modulus=modulus)
+    except ParameterError as exc:
+        first = exc
+    if reference is None:
+        try:  # only to say which key is missing: the file's warnings come when it is read with its reference
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                materials.read_dma(path, poisson, modulus=modulus, temperature=300.0)
+        except ParameterError:
+            raise first from None
+        raise ParameterError(f"missing required key 'reference' with dma: {path!r} is a master curve (no "
+                             f"temperature column); expected reference = its temperature [K]") from None
+    try:
+        return materials.read_dma(path, poisson, modulus=modulus, temperature=reference)
+    except ParameterError:
+        raise first from None
+
+
+def _reference(sweeps, reference, shift):
+    """The master curve's reference temperature [K]: ``material.reference`` (or None), checked against the sweeps."""
+    temperatures = sorted(sweeps)
+    listed = "[" + ", ".join(f"{t:.2f}" for t in temperatures) + "]"
+    if reference is None:
+        if shift is not None:
+            return shift.reference
+        if len(temperatures) > 1:
+            raise ParameterError(f"material: missing required key 'reference' with dma: the file holds "
+                                 f"{len(temperatures)} sweeps, at {listed} K; expected reference = one of them [K]")
+        return temperatures[0]
+    if shift is not None:   # known shift factors: any temperature is a reference
+        return reference
+    nearest = min(temperatures, key=lambda t: abs(t - reference))
+    if abs(nearest - reference) > SAME_SWEEP:
+        raise ParameterError(f"material.reference: expected one of the sweeps' temperatures {listed} K (within "
+                             f"{SAME_SWEEP:g} K), whose shift factors are fitted, got {reference!r}; take the solid "
+                             f"to another temperature with material.temperature, or give material.shift")
+    return nearest
+
+
+def _with_shift(material, reference, shift):
+    """``material``, fitted at ``reference`` [K], as the solid at ``reference`` carrying ``shift``.
+
+    A :class:`~framework.materials.Viscoelastic` with a shift holds its series
+    at ``shift.reference``: the fitted times are divided by ``a_T(reference)``.
+    """
+    factor = shift.factor(reference)
+    terms = tuple((modulus, tau / factor) for modulus, tau in material.terms)
+    return materials.Viscoelastic(e_inf=material.e_inf, terms=terms, poisson=material.poisson,
+                                  temperature=reference, shift=shift)
+
+
+def _dma_material(table, folder):
+    """``material = {dma = "sweeps.csv", reference, poisson, ...}``: the Prony series fitted to a DMA file.
+
+    The file's sweeps (:func:`framework.materials.read_dma`) are shifted onto
+    ``reference`` (:func:`framework.materials.master_curve`) and a Prony series
+    is fitted to the master curve (:meth:`MasterCurve.fit_prony`). The keys:
+
+    - ``dma``: the file (pyvisco CSV, plain CSV or TRIOS text), relative to
+      the scenario file's folder; absolute paths and paths that lead out of
+      that folder (``..``, links) are refused.
+    - ``reference`` [K]: without ``shift`` the shift factors are fitted and it
+      names one of the sweeps: the sweep within :data:`SAME_SWEEP` (0.5 K) of
+      it (``268.15`` names a sweep the instrument read at 268.39 K); a sweep
+      further away is never chosen in its place. Optional for a file of one
+      sweep (then its temperature) and with ``shift`` (then
+      ``shift.reference``); a master-curve file (no temperature column)
+      needs it: the curve's temperature.
+    - ``poisson``: Poisson ratio of the solid (required; converts shear data).
+    - ``temperature`` [K], optional: the solid there, its series taken from
+      ``reference`` by ``shift``, or else by the law fitted to the shift
+      factors (:meth:`MasterCurve.fit_shift`). Default: at ``reference``.
+    - ``terms``, optional: the number of Prony terms (default: automatic).
+    - ``modulus``, optional: ``"tensile"`` or ``"shear"``, what the file's
+      moduli are when its columns do not say.
+    - ``shift``, optional: a known WLF or Arrhenius law (``{type = "WLF", c1,
+      c2, reference}``): the sweeps are shifted by it instead of by fitted
+      factors, and the solid carries it.
+
+    A :class:`~framework.errors.DataWarning` lists the points the reader
+    dropped.
+
+    Parameters
+    ----------
+    table : dict
+        The ``[material]`` table, with a ``dma`` key.
+    folder : str or None
+        The scenario file's folder (None: tables from no file, which cannot
+        name a file).
+
+    Returns
+    -------
+    framework.materials.Viscoelastic
+        The fitted solid: results record it as such (its terms, and its
+        temperature and shift when it has them), so that a result's
+        configuration reads back the same solid without the file.
+    """
+    unknown = set(table) - set(DMA_KEYS)
+    if unknown:
+        raise ParameterError(f"material: unknown key(s) {sorted(unknown)} with dma; expected some of "
+                             f"{list(DMA_KEYS)}")
+    if "poisson" not in table:
+        raise ParameterError("material: missing required key 'poisson' with dma; expected the Poisson ratio of "
+                             "the solid, in (-1, 0.5]")
+    path = _dma_path(table["dma"], folder)
+    terms = check_positive_int(table["terms"], name="material.terms") if "terms" in table else None
+    shift = build(table["shift"], name="material.shift") if "shift" in table else None
+    if shift is not None and not isinstance(shift, (materials.WLF, materials.Arrhenius, materials.WLFArrhenius)):
+        raise ParameterError(f"material.shift: expected a WLF or Arrhenius table ({{type = \"WLF\", c1, c2, "
+                             f"reference}}), got {table['shift']!r}")
+    temperature = check_real(table["temperature"], name="material.temperature") if "temperature" in table else None
+    reference = check_real(table["reference"], name="material.reference") if "reference" in table else None
+    try:
+        sweeps = _read_sweeps(path, table["poisson"], table.get("modulus"), reference)
+    except ParameterError as exc:
+        raise ParameterError(f"material: {exc}") from exc
+    reference = _reference(sweeps, reference, shift)
+    if temperature is not None and shift is None and len(sweeps) < 2:
+        raise ParameterError(f"material.temperature: one sweep gives no shift factors to take the solid from "
+                             f"{reference:g} K to {temperature!r} K; give material.shift (a WLF or Arrhenius table)")
+    try:
+        curve = materials.master_curve(sweeps, reference, shift=shift)
+        material = curve.fit_prony(n_terms=terms, poisson=table["poisson"]).material
+        if shift is not None:
+            material = _with_shift(material, reference, shift)
+            return material if temperature is None else material.at(temperature)
+        return material if temperature is None else material.at(temperature, curve.fit_shift())
+    except ParameterError as exc:
+        raise ParameterError(f"material: {exc}") from exc
 
 
 def _inclusion_material(table, name):
@@ -268,8 +444,12 @@ def picture_file(picture):
     return picture.get("file") or f"{picture['field']}_{picture.get('kind', 'map')}.png"
 
 
-def parse(data, source="<scenario>"):
-    """A :class:`Scenario` from the parsed TOML tables ``data``."""
+def parse(data, source="<scenario>", *, folder=None):
+    """A :class:`Scenario` from the parsed TOML tables ``data``.
+
+    ``folder`` is the scenario file's folder, where the files it names are
+    found (``material.dma``); tables from no file (None) cannot name any.
+    """
     from .simulation import Options, Simulation
     try:
         unknown = set(data) - TABLES - ARRAYS
@@ -282,7 +462,7 @@ def parse(data, source="<scenario>"):
             if not isinstance(data[key], dict):
                 raise ParameterError(f"{key}: expected a table, got {type(data[key]).__name__}")
         grid = build(dict(data["grid"], type="Grid"), name="grid")
-        material = _material(data["material"])
+        material = _material(data["material"], folder)
         if "type" not in data["indenter"]:
             raise ParameterError("indenter: missing required key 'type' (Sphere, FlatPunch, RoundedFlatPunch, "
                                  "Cylinder, HeightMap)")
@@ -350,7 +530,7 @@ def read(path, cells=None):
         raise ScenarioError(f"{path}: not valid TOML: {exc}") from exc
     if cells is not None and isinstance(data.get("grid"), dict):
         data["grid"]["shape"] = [cells, cells]
-    return parse(data, source=path)
+    return parse(data, source=path, folder=os.path.dirname(os.path.abspath(path)))
 
 
 def demo_path():

@@ -483,7 +483,9 @@ class ScenarioBuilder:
     mistake raises :class:`ScenarioError` naming the key.
 
     The file is read once, here: the builder carries its tables, so workers
-    need no access to it. The base scenario is checked at once.
+    need no access to it, except to a file the scenario names (a ``dma``
+    material, read relative to the scenario's folder by each point). The base
+    scenario is checked at once.
     """
 
     def __init__(self, path_or_data, *, source=None):
@@ -491,19 +493,22 @@ class ScenarioBuilder:
             path = os.fspath(path_or_data)
             self.data = _load_toml(path, "scenario")
             self.source = source or path
+            self.folder = os.path.dirname(os.path.abspath(path))
         elif isinstance(path_or_data, dict):
             self.data = copy.deepcopy(path_or_data)
             self.source = source or "<scenario>"
+            self.folder = None
         else:
             raise ScenarioError(f"ScenarioBuilder: expected a scenario file path or a dict of tables, got "
                                 f"{type(path_or_data).__name__}")
-        parse(copy.deepcopy(self.data), source=self.source)
+        parse(copy.deepcopy(self.data), source=self.source, folder=self.folder)
 
     def __repr__(self):
         return f"ScenarioBuilder({self.source!r})"
 
     def __eq__(self, other):
-        return isinstance(other, ScenarioBuilder) and (self.data, self.source) == (other.data, other.source)
+        return isinstance(other, ScenarioBuilder) and (self.data, self.source, self.folder) == (
+            other.data, other.source, other.folder)
 
     __hash__ = None
 
@@ -523,7 +528,7 @@ class ScenarioBuilder:
         source = self.source
         if overrides:
             source += " with " + ", ".join(f"{key} = {value!r}" for key, value in overrides.items())
-        return parse(self.tables(**overrides), source=source)
+        return parse(self.tables(**overrides), source=source, folder=self.folder)
 
     def __call__(self, **overrides):
         return self.scenario(**overrides).simulation
