@@ -1,43 +1,34 @@
-"""From DMA sweeps to rolling friction at three temperatures: master curve, Prony series, steady rolling.
+"""From measured DMA sweeps to a map of rolling friction over speed and temperature.
 
-What a polymer lab hands over is dynamic mechanical analysis (DMA): the
-storage and loss moduli E'(f), E''(f) over a few decades of frequency at
-several temperatures. This example takes such sweeps
-(``examples/data/dma_sweeps.csv``) through the whole chain:
+What a polymer lab hands over is dynamic mechanical analysis (DMA): storage
+and loss moduli E'(f), E''(f) over a few decades of frequency at several
+temperatures. This example takes MEASURED sweeps, pyvisco's example data set
+(``examples/data/dma/pyvisco_freq_raw.csv``: 21 isotherms, -50 to 100 degC,
+0.1-100 Hz, a photovoltaic encapsulant through its glass transition; Springer,
+NREL/pyvisco 2022, BSD licence, notice in ``examples/data/dma/README.md``)
+through the whole chain:
 
-1. Master curve: the sweeps shifted along log(frequency) onto the reference
-   temperature T_ref = 296.15 K (``materials.master_curve``: the shifts that
-   best lay neighbouring sweeps' log E' and log E'' on each other), and the
-   WLF law ``log10 a_T = -c1 (T - T_ref) / (c2 + T - T_ref)`` fitted to the
-   shift factors (``MasterCurve.fit_wlf``).
-2. Prony series: ``fit_prony(kind="dynamic")`` on the master curve, relaxation
-   times and moduli both fitted; the fewest terms whose fit lies within 0.1 %
-   of every point.
-3. Rolling friction: a rigid sphere (R = 10 mm, W = 8 N) in steady rolling
-   (``schedules.Rolling(steady=True)``) on the fitted solid at T_ref, T_ref + 10 K
-   and T_ref + 20 K (``Viscoelastic.at(T, wlf)``: every relaxation time times
-   a_T), friction coefficient against speed. Time-temperature superposition
-   makes the three curves copies of one another shifted by 1/a_T along the
-   speed axis: each temperature is solved at the same reduced speeds V a_T,
-   and the largest difference between the curves there is printed as a check.
+1. ``materials.read_dma``: the file (byte-order mark, units row, MPa, Hz,
+   degC) to sweeps in Pa, rad/s and K.
+2. ``materials.master_curve``: the sweeps shifted onto T_ref (the sweep
+   nearest 55 degC, just above the glass transition, where the sphere rolls),
+   the glass transition from the loss peak at 1 Hz, WLF constants quoted at
+   it (``fit_wlf``), and the law for the whole range (``fit_shift``: WLF above
+   T_g, Arrhenius below).
+3. ``fit_prony``: the Prony series of the master curve, relaxation times
+   fitted, the term count chosen automatically.
+4. Steady rolling (``schedules.Rolling(steady=True)``) of a rigid sphere
+   (R = 10 mm, W = 1 N: relaxed contact radius ~0.3 mm, strains of a few
+   percent) on the fitted solid at five temperatures from 40 to 100 degC
+   (``Viscoelastic.at``): the friction map over speed and temperature, and
+   the speed of the friction peak at each temperature. Each temperature is
+   solved at the same reduced speeds V a_T, so each curve is the one at T_ref
+   moved by 1/a_T along the speed axis.
 
-THE DATA ARE COMPUTED, NOT MEASURED. No published table of measured DMA sweeps
-could be found with this project's literature search, so the file holds the
-sweeps (0.1 to 100 Hz, seven temperatures from T_ref - 5 K to T_ref + 25 K) of
-an illustrative solid computed from two published sets of constants: the PMMA
-relaxation modulus of Spinu & Cerlinca (seed 001, a Prony fit of the data of
-Ramesh Kumar & Narasimhan, Current Science 87, 2004; ``materials.PMMA``) as
-the master curve at T_ref, and the "universal" WLF constants c1 = 17.44,
-c2 = 51.6 K of Williams, Landel & Ferry (J. Am. Chem. Soc. 77, 3701, 1955)
-at T_ref. Real PMMA is glassy up to about 378 K and follows neither near room
-temperature; the file's header says the same. What the example shows is that
-the chain gives those constants back: the shift factors within 1e-4 decades,
-c1 and c2 within 1e-4, the Prony times and moduli within 1e-4.
-
-Writes to ``--out``: ``dma_shift_factors.csv`` (fitted and WLF shift factors
-per temperature), ``dma_prony.csv`` (the fitted terms), ``dma_rolling.csv``
-(friction, contact area and peak pressure per temperature and speed) and, with
-matplotlib, ``dma_master_curve.png`` and ``dma_rolling_friction.png``.
+Writes to ``--out``: ``dma_shift_factors.csv``, ``dma_prony.csv``,
+``dma_rolling.csv`` (friction, contact area and peak pressure per temperature
+and speed) and, with matplotlib, ``dma_master_curve.png`` (sweeps, master
+curve with the fit, shift factors with the laws) and ``dma_friction_map.png``.
 
     python examples/dma_to_rolling.py [--cells 32] [--per-decade 2] [--out out/examples]
 """
@@ -50,38 +41,16 @@ import framework as fw
 from framework import indenters, materials, schedules
 from framework.sweep import write_table
 
-DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "dma_sweeps.csv")
-REFERENCE = 296.15                         # K, the master curve's temperature
-TEMPERATURES = (296.15, 306.15, 316.15)    # K, where the sphere rolls
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "dma", "pyvisco_freq_raw.csv")
+REFERENCE = 328.15                         # K (55 degC): the master curve's temperature is the sweep nearest it
+TEMPERATURES = (313.15, 328.15, 343.15, 358.15, 373.15)    # K, where the sphere rolls (40-100 degC)
 POISSON = 0.35
-RADIUS, LOAD = 10e-3, 8.0                  # m, N: relaxed Hertz radius a0 = 0.30 mm on this solid
-#: Reduced speeds V a_T [m/s] of each friction curve: relaxed to glassy (the peak near 3e-6 m/s at T_ref).
-REDUCED_SPEEDS = (1e-8, 1e-3)
-#: Default cells per side of the steady grid (3 relaxed contact radii): the peak friction within 1 %.
+RADIUS, LOAD = 10e-3, 1.0                  # m, N
+#: Reduced speeds V a_T [m/s] of the map (a_T relative to the master curve's temperature): at every temperature the
+#: speeds that span the friction peak (near 1e-6 m/s at 55 degC) and the relaxed and glassy plateaus beside it.
+REDUCED_SPEEDS = (1e-11, 1e-2)
+#: Default cells per side of the steady grid (3 relaxed contact radii).
 CELLS = 32
-#: Most Prony terms tried; the fit stops at the first within TOLERANCE of every point.
-MOST_TERMS, TOLERANCE = 6, 1e-3
-
-
-def read_sweeps(path=DATA):
-    """``{temperature [K]: (angular frequencies [rad/s], E' + i E'' [Pa])}`` from the CSV file (Hz in the file)."""
-    table = np.loadtxt(path, delimiter=",", comments="#")
-    sweeps = {}
-    for temperature in np.unique(table[:, 0]):
-        rows = table[table[:, 0] == temperature]
-        sweeps[float(temperature)] = (2 * np.pi * rows[:, 1], rows[:, 2] + 1j * rows[:, 3])
-    return sweeps
-
-
-def fit_series(curve):
-    """The Prony fit with the fewest terms whose largest relative error is below ``TOLERANCE``."""
-    for n_terms in range(1, MOST_TERMS + 1):
-        fit = curve.fit_prony(n_terms, poisson=POISSON)
-        print(f"  {n_terms} term(s): rms relative error {fit.rms_relative_error:.2e}, "
-              f"largest {fit.max_relative_error:.2e}")
-        if fit.max_relative_error < TOLERANCE:
-            return fit
-    return fit
 
 
 def steady_friction(material, speed, cells):
@@ -94,8 +63,16 @@ def steady_friction(material, speed, cells):
                          schedule=schedules.Rolling(load=LOAD, velocity=(speed, 0.0), steady=True)).run()
 
 
+def peak_speed(speeds, mu):
+    """Speed of the friction peak: the vertex of the parabola in log V through the largest value and its neighbours."""
+    i = int(np.clip(np.argmax(mu), 1, len(mu) - 2))
+    x, y = np.log10(speeds[i - 1:i + 2]), mu[i - 1:i + 2]
+    a, b, _ = np.polyfit(x - x[1], y, 2)
+    return 10 ** (x[1] - b / (2 * a)) if a < 0 else speeds[int(np.argmax(mu))]
+
+
 def main(cells=CELLS, out="out/examples", per_decade=2):
-    """Master curve, Prony fit and friction curves; write the CSV files and pictures to ``out``; return the rows.
+    """Master curve, laws, Prony fit and friction map; write the CSV files and pictures to ``out``; return the rows.
 
     Parameters
     ----------
@@ -104,88 +81,102 @@ def main(cells=CELLS, out="out/examples", per_decade=2):
     out : str
         Output folder.
     per_decade : int
-        Speeds per decade of each friction curve.
+        Speeds per decade of the map.
     """
     os.makedirs(out, exist_ok=True)
-    sweeps = read_sweeps()
-    curve = materials.master_curve(sweeps, reference=REFERENCE)
-    wlf = curve.fit_wlf()
-    print(f"master curve: {len(sweeps)} sweeps, {curve.frequencies.size} points over "
-          f"{np.log10(curve.frequencies[-1] / curve.frequencies[0]):.1f} decades of reduced frequency; "
-          f"WLF fit c1 = {wlf.c1:.5g}, c2 = {wlf.c2:.5g} K at T_ref = {wlf.reference} K")
-    write_table([{"temperature_K": t, "shift_factor": a, "wlf_shift_factor": wlf.factor(t)}
+    sweeps = materials.read_dma(DATA)
+    reference = min(sweeps, key=lambda t: abs(t - REFERENCE))
+    curve = materials.master_curve(sweeps, reference=reference)
+    tg, wlf, law = curve.glass_transition, curve.fit_wlf(), curve.fit_shift()
+    print(f"{len(sweeps)} sweeps ({sweeps.format} file, {sweeps.modulus}), master curve at {reference:.2f} K over "
+          f"{np.log10(curve.frequencies[-1] / curve.frequencies[0]):.1f} decades of reduced frequency")
+    print(f"glass transition (loss peak at 1 Hz) {tg:.1f} K; WLF at {wlf.reference:.2f} K: c1 = {wlf.c1:.3g}, "
+          f"c2 = {wlf.c2:.3g} K; below T_g Arrhenius E_a = {law.activation_energy / 1e3:.0f} kJ/mol")
+    write_table([{"temperature_K": t, "log10_shift_factor": np.log10(a), "log10_law": law.log10_factor(t)}
                  for t, a in zip(curve.temperatures, curve.shift_factors)], os.path.join(out, "dma_shift_factors.csv"))
-    print("Prony fit of the master curve (relaxation times fitted too):")
-    fit = fit_series(curve)
-    print(f"  e_inf = {fit.constant / 1e6:.6g} MPa, terms (MPa, s): "
-          + ", ".join(f"({modulus / 1e6:.6g}, {tau:.6g})" for modulus, tau in fit.terms))
+    fit = curve.fit_prony(poisson=POISSON)
+    errors = [np.sqrt(np.mean(np.log10(part(fit.fitted) / part(curve.complex_modulus))**2)) for part in (np.real, np.imag)]
+    print(f"Prony fit: {len(fit.terms)} terms, e_inf = {fit.constant / 1e6:.4g} MPa; rms log10 error "
+          f"{errors[0]:.4f} (E'), {errors[1]:.4f} (E'')")
     write_table([{"modulus_Pa": fit.constant, "relaxation_time_s": float("inf")}]
                 + [{"modulus_Pa": m, "relaxation_time_s": tau} for m, tau in fit.terms],
                 os.path.join(out, "dma_prony.csv"))
 
     reduced = np.geomspace(*REDUCED_SPEEDS, round(per_decade * np.log10(REDUCED_SPEEDS[1] / REDUCED_SPEEDS[0])) + 1)
-    rows, curves = [], {}
+    relaxed = fit.material.contact_compliance().relaxed
+    print(f"sphere R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N: relaxed Hertz radius "
+          f"{(3 * LOAD * RADIUS * relaxed / 4) ** (1 / 3) * 1e3:.3f} mm")
+    rows, peaks, friction, maps = [], [], [], []
     for temperature in TEMPERATURES:
-        material = fit.material.at(temperature, wlf)
+        material = fit.material.at(temperature, law)
         speeds = reduced / material.shift_factor
+        maps.append(speeds)
         results = [steady_friction(material, speed, cells) for speed in speeds]
         mu = np.array([result.friction_coefficient[0] for result in results])
-        curves[temperature] = speeds, mu
-        rows += [{"temperature_K": temperature, "shift_factor": material.shift_factor, "speed_m_s": v,
-                  "friction_coefficient": r.friction_coefficient[0], "contact_area_m2": r.contact_area[0],
-                  "max_pressure_Pa": r.max_pressure[0]} for v, r in zip(speeds, results)]
-        peak = int(np.argmax(mu))
-        print(f"T = {temperature} K (a_T = {material.shift_factor:.4g}): peak friction {mu[peak]:.4g} at "
-              f"V = {speeds[peak]:.3g} m/s (V a_T = {reduced[peak]:.3g} m/s)")
-    spread = np.ptp([mu for _, mu in curves.values()], axis=0).max()
-    print(f"the three curves at equal V a_T differ by {spread:.2g} at most (time-temperature superposition)")
+        friction.append(mu)
+        rows += [{"temperature_K": temperature, "log10_shift_factor": np.log10(material.shift_factor),
+                  "speed_m_s": v, "friction_coefficient": r.friction_coefficient[0],
+                  "contact_area_m2": r.contact_area[0], "max_pressure_Pa": r.max_pressure[0]}
+                 for v, r in zip(speeds, results)]
+        peaks.append(peak_speed(speeds, mu))
+        print(f"T = {temperature:.2f} K (log10 a_T = {np.log10(material.shift_factor):+.2f}): peak friction "
+              f"{mu.max():.4g} at V = {peaks[-1]:.3g} m/s")
+    per_kelvin = np.diff(np.log10(peaks)) / np.diff(TEMPERATURES)
+    print("the friction peak moves to higher speeds as the polymer warms: " + ", ".join(
+        f"{rate:.3f}" for rate in per_kelvin) + " decades per K between the temperatures (the shift law's slope: "
+        "time-temperature superposition makes each curve a copy of the one at T_ref)")
     write_table(rows, os.path.join(out, "dma_rolling.csv"))
-    plot(sweeps, curve, fit, wlf, curves, out)
+    plot(sweeps, curve, fit, law, np.array(maps), np.array(friction), out)
     return rows
 
 
-def plot(sweeps, curve, fit, wlf, curves, out):
+def plot(sweeps, curve, fit, law, speeds, friction, out):
     try:
         from matplotlib.figure import Figure
     except ImportError:
         print("matplotlib not installed (pip install 'viscocontact[viz]'): no pictures")
         return
-    figure = Figure(figsize=(11, 4.2), layout="constrained")
+    figure = Figure(figsize=(13, 4.2), layout="constrained")
     raw, master, shifts = figure.subplots(1, 3)
     for temperature, (w, modulus) in sweeps.items():
-        line, = raw.loglog(w, modulus.real, "-", lw=1, label=f"{temperature:g} K")
-        raw.loglog(w, modulus.imag, "--", lw=1, color=line.get_color())
-    raw.set(title="sweeps: E' (solid), E'' (dashed)", xlabel="w [rad/s]", ylabel="modulus [Pa]")
-    raw.legend(fontsize=7, ncol=2)
-    w = np.geomspace(curve.frequencies[0], curve.frequencies[-1], 300)
+        colour = (0.1 + 0.8 * (temperature - min(sweeps)) / np.ptp(list(sweeps)), 0.2, 0.6)
+        raw.loglog(w, modulus.real, "-", lw=1, color=colour)
+        raw.loglog(w, modulus.imag, "--", lw=1, color=colour)
+    raw.set(title=f"{len(sweeps)} measured sweeps: E' (solid), E'' (dashed)", xlabel="w [rad/s]",
+            ylabel="modulus [Pa]")
+    w = np.geomspace(curve.frequencies[0], curve.frequencies[-1], 400)
     master.loglog(curve.frequencies, curve.complex_modulus.real, ".", ms=3, label="E' shifted")
     master.loglog(curve.frequencies, curve.complex_modulus.imag, ".", ms=3, label="E'' shifted")
     master.loglog(w, fit.material.storage_modulus(w), "k-", lw=0.8, label=f"{len(fit.terms)}-term Prony fit")
     master.loglog(w, fit.material.loss_modulus(w), "k-", lw=0.8)
-    master.set(title=f"master curve at {curve.reference} K", xlabel="w a_T [rad/s]")
+    master.set(title=f"master curve at {curve.reference:.1f} K", xlabel="w a_T [rad/s]")
     master.legend(fontsize=8)
-    temperatures = np.linspace(curve.temperatures[0], curve.temperatures[-1], 100)
-    shifts.plot(curve.temperatures, np.log10(curve.shift_factors), "o", label="fitted shifts")
-    shifts.plot(temperatures, wlf.log10_factor(temperatures), "-",
-                label=f"WLF c1 = {wlf.c1:.4g}, c2 = {wlf.c2:.4g} K")
+    temperatures = np.linspace(curve.temperatures[0], curve.temperatures[-1], 200)
+    shifts.plot(curve.temperatures, np.log10(curve.shift_factors), "o", ms=4, label="fitted shifts")
+    shifts.plot(temperatures, law.log10_factor(temperatures), "-", label="WLF above T_g, Arrhenius below")
+    shifts.axvline(curve.glass_transition, color="0.6", lw=0.8, ls=":", label=f"T_g = {curve.glass_transition:.1f} K")
     shifts.set(title="shift factors", xlabel="T [K]", ylabel="log10 a_T")
     shifts.legend(fontsize=8)
     figure.savefig(os.path.join(out, "dma_master_curve.png"), dpi=110)
-    figure = Figure(figsize=(6.5, 4.2), layout="constrained")
-    ax = figure.subplots()
-    for temperature, (speeds, mu) in curves.items():
-        ax.semilogx(speeds, mu, "o-", ms=3, label=f"T = {temperature} K")
-    ax.set(xlabel="rolling speed V [m/s]", ylabel="friction coefficient F_t / W",
-           title=f"sphere R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N on the fitted solid")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    figure.savefig(os.path.join(out, "dma_rolling_friction.png"), dpi=110)
-    print("wrote", os.path.join(out, "dma_master_curve.png"), "and", os.path.join(out, "dma_rolling_friction.png"))
+    figure = Figure(figsize=(11, 4.2), layout="constrained")
+    curves, chart = figure.subplots(1, 2)
+    for temperature, v, mu in zip(TEMPERATURES, speeds, friction):
+        curves.semilogx(v, mu, "o-", ms=3, label=f"T = {temperature - 273.15:.0f} degC")
+    curves.set(xlabel="rolling speed V [m/s]", ylabel="friction coefficient F_t / W",
+               title=f"sphere R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N on the measured polymer")
+    curves.grid(True, alpha=0.3)
+    curves.legend(fontsize=8)
+    image = chart.pcolormesh(np.log10(speeds), np.repeat(np.array(TEMPERATURES)[:, None] - 273.15, speeds.shape[1], 1),
+                             friction, shading="nearest", cmap="viridis")
+    chart.set(xlabel="log10 V [m/s]", ylabel="T [degC]", title="rolling friction coefficient")
+    figure.colorbar(image, ax=chart)
+    figure.savefig(os.path.join(out, "dma_friction_map.png"), dpi=110)
+    print("wrote", os.path.join(out, "dma_master_curve.png"), "and", os.path.join(out, "dma_friction_map.png"))
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cells", type=int, default=CELLS, help="cells per side of the steady grid (3 a0)")
-    parser.add_argument("--per-decade", type=int, default=2, help="speeds per decade of each friction curve")
+    parser.add_argument("--per-decade", type=int, default=2, help="speeds per decade of the map")
     parser.add_argument("--out", default="out/examples")
     main(**vars(parser.parse_args()))
