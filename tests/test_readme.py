@@ -9,6 +9,7 @@ other in one namespace, as in a notebook.
 import csv
 import os
 import re
+import shutil
 import subprocess
 import sys
 
@@ -26,6 +27,8 @@ def readme_blocks():
 def test_readme_python_blocks_run(tmp_path, monkeypatch):
     blocks = [block for block in readme_blocks() if not SCRIPT.match(block)]
     assert len(blocks) >= 2
+    # the README is read at the repository's root: the example data it names are where it says
+    shutil.copytree(os.path.join(ROOT, "examples", "data"), tmp_path / "examples" / "data")
     monkeypatch.chdir(tmp_path)
     namespace = {}
     for block in blocks:
