@@ -680,3 +680,20 @@ def test_rolling_friction_obeys_time_temperature_superposition():
     hot_speed = 3e-6 / warm.shift_factor
     assert friction(warm, hot_speed) == pytest.approx(friction(materials.PMMA, 3e-6), rel=1e-6)
     assert friction(warm, 3e-6) < 0.1 * friction(materials.PMMA, 3e-6)   # at the same speed: nearly relaxed
+
+
+def test_vertical_shift_takes_out_the_entropic_factor():
+    """Sweeps of a solid whose moduli also scale as T / T_ref (rubber elasticity, Ferry's vertical factor):
+    with ``vertical=True`` the factors T_ref / T are applied first and the shifts and moduli come back (the
+    moduli to round-off, the shifts within 2e-3 decade as without the vertical factor)."""
+    temperatures = np.arange(358.0, 400.0, 5.0)
+    data = sweeps(BROAD, UNIVERSAL, temperatures)
+    scaled = {t: (w, modulus * t / 373.0) for t, (w, modulus) in data.items()}
+    curve = master_curve(scaled, reference=373.0, vertical=True)
+    assert curve.vertical_factors == pytest.approx(373.0 / temperatures, rel=1e-15)
+    assert np.log10(curve.shift_factors) == pytest.approx(UNIVERSAL.log10_factor(temperatures), abs=2e-3)
+    plain = master_curve(data, reference=373.0)
+    assert np.array_equal(plain.vertical_factors, np.ones(temperatures.size))
+    np.testing.assert_allclose(np.sort(curve.complex_modulus.real), np.sort(plain.complex_modulus.real), rtol=1e-13)
+    with pytest.raises(errors.ParameterError, match="vertical must be a bool"):
+        master_curve(data, reference=373.0, vertical="yes")
