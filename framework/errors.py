@@ -43,7 +43,8 @@ class FrameworkWarning(UserWarning):
 
 
 class CoverageWarning(FrameworkWarning):
-    """A fit claims more than its data cover, e.g. Prony relaxation times outside the times the data span."""
+    """A fit claims more than its data cover. No longer raised by the dynamic Prony fit, whose times now stay within
+    half a decade of the data; kept so that scripts that catch it still run."""
 
 
 class DataWarning(FrameworkWarning):
