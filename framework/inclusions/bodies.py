@@ -23,6 +23,9 @@ _ROUNDING = 1e-14  # max |R^T R - I| of a rotation computed in double precision
 
 #: Fewest cuboids per semi-axis that the equivalent inclusion method accepts (along each semi-axis direction).
 MIN_CELLS_PER_SEMI_AXIS = 3
+#: Relative tolerance of that count: far above the rounding of a quotient of sizes (~1e-16), far below any
+#: resolution that matters.
+CELLS_TOLERANCE = 1e-9
 
 #: Ellipsoids whose Perram-Wertheim contact function is at most ``1 + TOUCH_TOLERANCE`` touch or overlap.
 TOUCH_TOLERANCE = 1e-12
@@ -160,6 +163,10 @@ class Ellipsoid:
         if not isinstance(self.material, (Elastic, AnisotropicElastic)):
             raise ParameterError(f"material must be materials.Elastic or materials.AnisotropicElastic "
                                  f"(inhomogeneities are elastic), got {type(self.material).__name__}")
+        if isinstance(self.material, Elastic) and self.material.poisson == 0.5:
+            raise ParameterError(f"material.poisson = {self.material.poisson!r} (incompressible) gives an "
+                                 f"inhomogeneity no finite stiffness tensor, which the equivalent-inclusion method "
+                                 f"needs; expected poisson < 0.5 (e.g. 0.4999, nearly incompressible)")
         rotation = _check_orientation(self.orientation)
         rotation.setflags(write=False)
         object.__setattr__(self, "center", tuple(float(x) for x in center))
@@ -388,9 +395,13 @@ class InclusionSet(Sequence):
                         f"expected inside: enlarge grid.size[{i}] or move it")
             cells = np.asarray(body.semi_axes) / np.sqrt(np.square(spacing[:, None] * body.orientation).sum(axis=0))
             for axis in range(3):
-                if cells[axis] < MIN_CELLS_PER_SEMI_AXIS:
+                # a semi-axis of exactly 3 cells comes out 2.9999999999999996 (a quotient of rounded sizes): the
+                # tolerance forgives rounding, and the count is printed to enough digits to show any refused
+                # value (below 3 (1 - 1e-9)) below 3
+                if cells[axis] < MIN_CELLS_PER_SEMI_AXIS * (1.0 - CELLS_TOLERANCE):
                     raise InclusionError(
                         f"inclusions[{k}]: semi_axes[{axis}] = {body.semi_axes[axis]:.6g} m spans only "
-                        f"{cells[axis]:.3g} cuboids along its direction {np.round(body.orientation[:, axis], 6).tolist()} "
+                        f"{cells[axis]:.12g} cuboids along its direction "
+                        f"{np.round(body.orientation[:, axis], 6).tolist()} "
                         f"(cuboids {spacing[0]:.3g} x {spacing[1]:.3g} x {spacing[2]:.3g} m); expected at least "
                         f"{MIN_CELLS_PER_SEMI_AXIS}: refine the grid or enlarge the inclusion")

@@ -5,7 +5,7 @@ from .._validation import check_finite_array
 from ..errors import InclusionError, ParameterError, ShapeError
 from ..materials import Elastic, Viscoelastic
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
-from .equivalent import MANDEL, EquivalentInclusionProblem
+from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix
 
 #: Inhomogeneities must be at least this stiff relative to the matrix (smallest eigenvalue of
 #: ``C_M^-1/2 C_I C_M^-1/2``). The cell-averaged operator's spectrum lies in [0, 0.983] (see
@@ -66,9 +66,22 @@ def place(grid, field, start):
 
 def stiffness_ratio(inclusion_stiffness, matrix_stiffness):
     """Smallest eigenvalue of ``C_M^-1/2 C_I C_M^-1/2`` (Mandel matrices)."""
+    return softest_mode(inclusion_stiffness, matrix_stiffness)[0]
+
+
+def softest_mode(inclusion_stiffness, matrix_stiffness):
+    """``(ratio, volumetric)``: :func:`stiffness_ratio` and whether its mode is a change of volume.
+
+    ``volumetric`` when the mode's strain ``C_M^-1/2 v`` lies within 25 degrees of the hydrostatic
+    strain ``(1, 1, 1, 0, 0, 0)``: the inhomogeneity is too soft in bulk, as any compressible
+    one is in a nearly incompressible matrix.
+    """
     values, vectors = np.linalg.eigh(matrix_stiffness)
     root = vectors @ np.diag(values ** -0.5) @ vectors.T
-    return float(np.linalg.eigvalsh(root @ inclusion_stiffness @ root).min())
+    ratios, modes = np.linalg.eigh(root @ inclusion_stiffness @ root)
+    strain = root @ modes[:, 0]
+    hydrostatic = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]) / np.sqrt(3.0)
+    return float(ratios[0]), bool(abs(strain @ hydrostatic) >= np.cos(np.radians(25.0)) * np.linalg.norm(strain))
 
 
 def strain_vector(strain, *, name):
@@ -110,25 +123,37 @@ class InclusionProblem:
         if not isinstance(matrix, (Elastic, Viscoelastic)):
             raise ParameterError(f"matrix must be a framework.materials.Elastic or Viscoelastic (a solid with an "
                                  f"instantaneous modulus), got {type(matrix).__name__}")
+        if matrix.poisson == 0.5:
+            raise ParameterError(
+                f"material.poisson (the matrix around the inclusions) = {matrix.poisson!r}, an incompressible "
+                f"solid: not supported with inclusions, whose equivalent-inclusion method works with the matrix's "
+                f"stiffness, and its bulk modulus E / (3 (1 - 2 poisson)) is infinite at 0.5; expected poisson < 0.5, "
+                f"e.g. 0.4999, within about 1e-4 of the incompressible limit (the inclusions must then be nearly "
+                f"incompressible too: see MIN_STIFFNESS_RATIO)")
         inclusions.check_inside(grid)
         if len(inclusions) == 0:
             raise ParameterError("inclusions is empty: give at least one inhomogeneity")
         self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
-        start, self.shape, self.indicator = layout(grid, inclusions, margin)
         stiffnesses = [inclusion.stiffness_tensor for inclusion in inclusions]
+        # checked before the operator is built (seconds on a large box), with the matrices the system uses
+        matrix_stiffness = isotropic_mandel(instantaneous(matrix), matrix.poisson)
+        for k, stiffness in enumerate(stiffnesses):
+            ratio, volumetric = softest_mode(mandel_matrix(stiffness), matrix_stiffness)
+            if ratio < MIN_STIFFNESS_RATIO:
+                bulk = (f"; the softest mode is a change of volume: the matrix's poisson {matrix.poisson!r} makes "
+                        f"it nearly incompressible, and an inclusion in it must be nearly incompressible too"
+                        if volumetric else "")
+                raise ParameterError(f"inclusions[{k}].material is too soft for the equivalent-inclusion method: its "
+                                     f"stiffness is {ratio:.3g} times the matrix's along its softest mode, expected "
+                                     f">= {MIN_STIFFNESS_RATIO} (the system's conditioning grows like 1/ratio; voids "
+                                     f"are not supported){bulk}")
+        start, self.shape, self.indicator = layout(grid, inclusions, margin)
         starts = None
         if travel is not None:
             starts = self._check_travel(start, travel)
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
                                              starts=starts)
         self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, instantaneous(matrix))
-        for k, stiffness in enumerate(self.problem.stiffness):
-            ratio = stiffness_ratio(stiffness, self.problem.matrix)
-            if ratio < MIN_STIFFNESS_RATIO:
-                raise ParameterError(f"inclusions[{k}].material is too soft for the equivalent-inclusion method: its "
-                                     f"stiffness is {ratio:.3g} times the matrix's along its softest mode, expected "
-                                     f">= {MIN_STIFFNESS_RATIO} (the system's conditioning grows like 1/ratio; voids are not "
-                                     f"supported)")
         for k in range(len(inclusions)):
             if not np.any(self.indicator == k + 1):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")

@@ -10,6 +10,7 @@ import numpy as np
 
 from .._validation import LIMITS, check_finite_array, check_poisson, check_quantity
 from ..errors import ParameterError, ShapeError
+from .base import refuse_shift
 
 #: Tensor index pair ``(i, j)`` of each Voigt index 0..5.
 VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
@@ -146,6 +147,17 @@ class AnisotropicElastic:
     def stiffness_tensor(self):
         """Fourth-order stiffness tensor ``C_ijkl`` [Pa], shape (3, 3, 3, 3)."""
         return voigt_to_tensor(self.stiffness)
+
+    def at(self, temperature, shift=None):
+        """Refused: an elastic solid has no relaxation times for a time-temperature shift to scale.
+
+        Raises
+        ------
+        ParameterError
+            Always, naming the temperature received: give the stiffness at that temperature instead.
+        """
+        refuse_shift(self, temperature, shift, "an elastic solid has no relaxation times to shift; for the solid "
+                     "at another temperature give its stiffness at that temperature")
 
     def __eq__(self, other):
         if not isinstance(other, AnisotropicElastic):

@@ -20,6 +20,14 @@ def check_frequencies(w, *, name="w"):
     return w
 
 
+def refuse_shift(material, temperature, shift, reason):
+    """Raise the ParameterError of ``material.at(temperature, shift)`` on a material that cannot be shifted."""
+    name = type(material).__name__
+    raise ParameterError(f"{name}.at: got temperature = {temperature!r} K and shift = {shift!r}, but {reason}; "
+                         f"expected a materials.Viscoelastic (a Prony series, e.g. fit_prony(...).material or "
+                         f"StandardLinearSolid) for a time-temperature shift")
+
+
 def maxwell_arm(w, tau):
     """Storage and loss parts ``((w tau)^2, w tau) / (1 + (w tau)^2)`` of a Maxwell arm of unit modulus.
 

@@ -36,7 +36,7 @@ import numpy as np
 from .._validation import check_poisson
 from ..errors import DataWarning, ParameterError
 from .fitting import MAX_LOSS_TANGENT
-from .temperature import check_temperatures
+from .temperature import check_temperature
 
 __all__ = ["DMASweeps", "read_dma"]
 
@@ -400,7 +400,7 @@ def read_dma(path, poisson=None, *, modulus=None, temperature=None):
                              f"temperature={temperature!r} for a file {'without' if master else 'with'} one")
     w, storage, loss = (np.concatenate([getattr(table, part) for table in tables]) for part in ("w", "storage", "loss"))
     if master:
-        temperatures, groups = np.full(w.size, float(check_temperatures(temperature))), np.zeros(w.size)
+        temperatures, groups = np.full(w.size, check_temperature(temperature)), np.zeros(w.size)
     else:
         temperatures = np.concatenate([table.temperature for table in tables])
         groups = None if tables[0].sets is None else np.concatenate([table.sets for table in tables])

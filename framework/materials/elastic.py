@@ -5,7 +5,7 @@ import numpy as np
 
 from .._validation import check_poisson, check_quantity
 from .anisotropic import isotropic_tensor
-from .base import ComplianceSeries, DynamicModuli, check_frequencies
+from .base import ComplianceSeries, DynamicModuli, check_frequencies, refuse_shift
 
 
 @dataclass(frozen=True)
@@ -26,6 +26,18 @@ class Elastic(DynamicModuli):
     def __post_init__(self):
         object.__setattr__(self, "young", check_quantity(self.young, name="young", unit="Pa"))
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
+
+    def at(self, temperature, shift=None):
+        """Refused: an elastic solid has no relaxation times for a time-temperature shift to scale.
+
+        Raises
+        ------
+        ParameterError
+            Always, naming the temperature received: give the ``young`` and ``poisson`` of
+            the solid at that temperature instead.
+        """
+        refuse_shift(self, temperature, shift, "an elastic solid has no relaxation times to shift; for the solid "
+                     "at another temperature give its young and poisson at that temperature")
 
     @property
     def contact_modulus(self):

@@ -34,13 +34,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.interpolate import CubicSpline, PchipInterpolator
+from scipy.interpolate import CubicSpline
 from scipy.optimize import isotonic_regression, minimize_scalar
 
 from .._validation import check_bool
 from ..errors import FrameworkError, ParameterError
 from .fitting import check_dynamic, fit_prony
-from .temperature import WLF, Arrhenius, Shift, WLFArrhenius, check_temperatures
+from .temperature import WLF, Arrhenius, Shift, WLFArrhenius, check_temperature
 
 __all__ = ["MasterCurve", "master_curve"]
 
@@ -184,7 +184,7 @@ def _sweeps(sweeps):
     out = []
     for temperature, sweep in sweeps.items():
         name = f"sweeps[{temperature!r}]"
-        temperature = float(check_temperatures(temperature, name=f"{name}: the key"))
+        temperature = check_temperature(temperature, name=f"{name}: the key")
         try:
             frequencies, modulus = sweep
             w, storage, loss = check_dynamic(frequencies, modulus)
@@ -331,7 +331,7 @@ def master_curve(sweeps, reference, shift=None, vertical=False):
     """
     data = _sweeps(sweeps)
     temperatures = np.array([sweep[0] for sweep in data])
-    reference = float(check_temperatures(reference, name="reference"))
+    reference = check_temperature(reference, name="reference")
     vertical = check_bool(vertical, name="vertical")
     scale = reference / temperatures if vertical else np.ones(temperatures.size)
     data = [(t, x, y + math.log10(b), w, modulus * b) for (t, x, y, w, modulus), b in zip(data, scale)]

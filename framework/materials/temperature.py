@@ -40,7 +40,7 @@ from scipy.optimize import least_squares
 from .._validation import LIMITS, check_finite_array, check_positive, check_quantity
 from ..errors import ParameterError, ShapeError
 
-__all__ = ["Arrhenius", "GAS_CONSTANT", "Shift", "WLF", "WLFArrhenius", "check_temperatures"]
+__all__ = ["Arrhenius", "GAS_CONSTANT", "Shift", "WLF", "WLFArrhenius", "check_temperature", "check_temperatures"]
 
 #: Molar gas constant R [J/(mol K)] (CODATA 2018: exact, from the Boltzmann and Avogadro constants).
 GAS_CONSTANT = 8.314462618
@@ -63,6 +63,18 @@ def check_temperatures(temperature, *, name="temperature"):
         raise ParameterError(f"{name} must be a temperature in kelvin between {low:g} and {high:g} K, "
                              f"got {float(values[index])!r}{where}")
     return values
+
+
+def check_temperature(temperature, *, name="temperature", hint=""):
+    """One temperature [K] as a float, finite and within ``LIMITS["K"]``; ``hint`` ends the message of an array."""
+    try:
+        shape = np.shape(temperature)
+    except (TypeError, ValueError):   # ragged nested sequences: check_temperatures names them
+        shape = ()
+    if shape != ():
+        raise ParameterError(f"{name} must be one temperature in kelvin (a float), got an array of shape {shape}"
+                             f"{hint}")
+    return float(check_temperatures(temperature, name=name)[()])
 
 
 def _scalar_or_array(values, like):
@@ -95,7 +107,7 @@ def _check_factors(temperatures, factors, reference):
     if np.any(factors <= 0):
         i = int(np.argmax(factors <= 0))
         raise ParameterError(f"factors must be positive shift factors a_T, got factors[{i}] = {float(factors[i])!r}")
-    reference = float(check_temperatures(reference, name="reference"))
+    reference = check_temperature(reference, name="reference")
     informative = temperatures != reference   # a_T(T_ref) = 1 says nothing about the constants
     return temperatures[informative] - reference, np.log10(factors[informative]), reference
 
@@ -125,7 +137,7 @@ class WLF(Shift):
     def __post_init__(self):
         object.__setattr__(self, "c1", check_positive(self.c1, name="c1"))
         object.__setattr__(self, "c2", check_positive(self.c2, name="c2", unit="K"))
-        object.__setattr__(self, "reference", float(check_temperatures(self.reference, name="reference")))
+        object.__setattr__(self, "reference", check_temperature(self.reference, name="reference"))
 
     def log10_factor(self, temperature):
         """``log10 a_T = -c1 (T - T_ref) / (c2 + T - T_ref)`` at ``temperature`` [K]."""
@@ -199,7 +211,7 @@ class Arrhenius(Shift):
     def __post_init__(self):
         object.__setattr__(self, "activation_energy",
                            check_quantity(self.activation_energy, name="activation_energy", unit="J/mol"))
-        object.__setattr__(self, "reference", float(check_temperatures(self.reference, name="reference")))
+        object.__setattr__(self, "reference", check_temperature(self.reference, name="reference"))
 
     def log10_factor(self, temperature):
         """``log10 a_T = (E_a / (R ln 10)) (1/T - 1/T_ref)`` at ``temperature`` [K]."""
@@ -265,10 +277,10 @@ class WLFArrhenius(Shift):
         object.__setattr__(self, "c1", check_positive(self.c1, name="c1"))
         object.__setattr__(self, "c2", check_positive(self.c2, name="c2", unit="K"))
         object.__setattr__(self, "glass_transition",
-                           float(check_temperatures(self.glass_transition, name="glass_transition")))
+                           check_temperature(self.glass_transition, name="glass_transition"))
         object.__setattr__(self, "activation_energy",
                            check_quantity(self.activation_energy, name="activation_energy", unit="J/mol"))
-        object.__setattr__(self, "reference", float(check_temperatures(self.reference, name="reference")))
+        object.__setattr__(self, "reference", check_temperature(self.reference, name="reference"))
 
     @staticmethod
     def _branches(values, c1, c2, tg, energy):
@@ -312,7 +324,7 @@ class WLFArrhenius(Shift):
         """
         x, y, reference = _check_factors(temperatures, factors, reference)
         temperatures, y = np.append(x + reference, reference), np.append(y, 0.0)   # a_T(T_ref) = 1 is a factor too
-        tg = float(check_temperatures(glass_transition, name="glass_transition"))
+        tg = check_temperature(glass_transition, name="glass_transition")
         above, below = temperatures >= tg, temperatures < tg
         if above.sum() < 3 or below.sum() < 1:
             raise ParameterError(f"glass_transition {tg:g} K must leave at least three temperatures at or above it and "

@@ -82,8 +82,8 @@ from scipy.optimize import brentq
 
 from .._validation import LIMITS, RELAXATION_TIMES, check_poisson, check_positive, check_quantity, check_real
 from ..errors import ParameterError
-from .base import ComplianceSeries, DynamicModuli, check_frequencies
-from .temperature import Shift, check_temperatures
+from .base import ComplianceSeries, DynamicModuli, check_frequencies, refuse_shift
+from .temperature import Shift, check_temperature
 
 __all__ = ["KelvinVoigt", "Maxwell", "PMMA", "StandardLinearSolid", "Viscoelastic"]
 
@@ -248,6 +248,10 @@ def _creep_to_relaxation(j0, terms):
 
 # --------------------------------------------------------------------------- materials
 
+#: Ends the message of an array of temperatures given to a material (a material is at one temperature).
+_ONE_AT_A_TIME = "; take the material to one temperature at a time, e.g. [m.at(T, shift) for T in temperatures]"
+
+
 def _scaled(terms, factor):
     """Prony terms ``((coefficient, time), ...)`` with every time multiplied by ``factor`` (exact for 1)."""
     return tuple((value, time * factor) for value, time in terms)
@@ -338,7 +342,7 @@ class Viscoelastic(DynamicModuli):
         _check_shift(self.shift)
         if self.temperature is None:
             object.__setattr__(self, "temperature", self.shift.reference)
-        object.__setattr__(self, "temperature", float(check_temperatures(self.temperature)))
+        object.__setattr__(self, "temperature", check_temperature(self.temperature, hint=_ONE_AT_A_TIME))
         factor = self.shift.factor(self.temperature)
         low, high = RELAXATION_TIMES
         for i, (_, tau) in enumerate(self.terms):
@@ -424,6 +428,8 @@ class Viscoelastic(DynamicModuli):
             With ``temperature`` and ``shift`` set; its ``terms`` stay those at
             ``shift.reference``, :attr:`relaxation_terms` gives the shifted ones.
         """
+        if temperature is not None:
+            temperature = check_temperature(temperature, hint=_ONE_AT_A_TIME)
         shift = self.shift if shift is None else _check_shift(shift)
         if shift is None:
             raise ParameterError("shift: this material carries no time-temperature shift; pass one, "
@@ -571,6 +577,23 @@ class Maxwell(DynamicModuli):
                            check_quantity(self.relaxation_time, name="relaxation_time", unit="s"))
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
 
+    def at(self, temperature, shift=None):
+        """Refused: a Maxwell fluid carries no temperature or shift (its ``relaxation_time`` is at one temperature).
+
+        Time-temperature superposition scales the relaxation time, ``tau(T) = a_T(T) tau(T_ref)``;
+        for a fluid whose ``relaxation_time`` is at ``shift.reference`` that is
+        ``Maxwell(young, relaxation_time * shift.factor(T), poisson)``. A shifted copy that
+        forgot its temperature would be shifted twice by a second ``at``, so none is returned.
+
+        Raises
+        ------
+        ParameterError
+            Always, naming the temperature received and the construction above.
+        """
+        refuse_shift(self, temperature, shift, "a Maxwell fluid carries no temperature or shift to shift from; for "
+                     "the fluid at T from one whose relaxation_time is at shift.reference, build Maxwell(young, "
+                     "relaxation_time * shift.factor(T), poisson)")
+
     @property
     def viscosity(self):
         """Dashpot viscosity in tension ``eta = E tau`` [Pa s]."""
@@ -654,6 +677,21 @@ class KelvinVoigt(DynamicModuli):
                                  f"{LIMITS['s'][0]:g} to {LIMITS['s'][1]:g} s), got {viscosity!r}")
         object.__setattr__(self, "viscosity", viscosity)
         object.__setattr__(self, "poisson", check_poisson(self.poisson))
+
+    def at(self, temperature, shift=None):
+        """Refused: a Kelvin-Voigt solid carries no temperature or shift (see :meth:`Maxwell.at`).
+
+        Its retardation time ``eta/E`` scales with ``a_T``: the solid at ``T`` from one at
+        ``shift.reference`` is ``KelvinVoigt(young, viscosity * shift.factor(T), poisson)``.
+
+        Raises
+        ------
+        ParameterError
+            Always, naming the temperature received and the construction above.
+        """
+        refuse_shift(self, temperature, shift, "a Kelvin-Voigt solid carries no temperature or shift to shift from; "
+                     "for the solid at T from one whose viscosity is at shift.reference, build KelvinVoigt(young, "
+                     "viscosity * shift.factor(T), poisson)")
 
     @property
     def retardation_time(self):
