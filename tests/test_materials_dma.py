@@ -227,7 +227,27 @@ def test_the_wlf_singularity_is_refused_by_name():
         with pytest.raises(errors.ParameterError, match=r"temperature must lie above T_ref - c2 = 321\.55 K.*"
                                                         r"singular \(T - T_ref <= -c2"):
             wlf.factor(temperature)
-    assert wlf.factor(373.15 - 51.5) > 1e100   # just above: finite
+    # just above it the factor leaves double precision (it returned inf): refused, naming the temperature
+    with pytest.raises(errors.ParameterError, match=r"temperature 321.65 K gives log10 a_T = 8981.6 .* beyond 1e\+-300"):
+        wlf.factor(373.15 - 51.5)
+    assert 1e200 < wlf.factor(373.15 - 48.0) < 1e300   # a little further: finite
+
+
+def test_silent_temperatures_and_constants_are_refused():
+    """Celsius given for kelvin, constants beyond any measured law, and factors no WLF law follows (c1 pinned at 0
+    was returned without a word)."""
+    sweep = (W, THREE.complex_modulus(W))
+    with pytest.raises(errors.ParameterError, match=r"sweeps\[23.0\]: the key must be a temperature in kelvin above "
+                                                    r"73.15 K .* it looks like degrees Celsius, 23 degC is 296.15 K"):
+        master_curve({23.0: sweep, 33.0: sweep}, reference=23.0)
+    with pytest.raises(errors.ParameterError, match=r"reference must be .* above 73.15 K .*23 degC is 296.15 K"):
+        WLF(c1=17.44, c2=51.6, reference=23.0)
+    with pytest.raises(errors.ParameterError, match=r"temperature must be .* above 73.15 K .*got 60.0.*333.15 K"):
+        materials.PMMA.at(60.0, UNIVERSAL)
+    with pytest.raises(errors.ParameterError, match=r"c1 must be at most 10000 .*got 1e\+300"):
+        WLF(c1=1e300, c2=51.6, reference=300.0)
+    with pytest.raises(errors.ParameterError, match=r"factors must fall as the temperature rises for a WLF law.*bound 0"):
+        WLF.fit([290.0, 300.0, 310.0], [0.1, 1.0, 10.0], 300.0)
 
 
 @pytest.mark.parametrize("make, message", [
@@ -303,8 +323,9 @@ def test_at_keeps_a_creep_series_given_as_such():
     (lambda: materials.PMMA.at(300.0), r"shift: this material carries no time-temperature shift"),
     (lambda: materials.PMMA.at(300.0, shift="WLF"), r"shift must be a time-temperature shift.*got 'WLF'"),
     (lambda: materials.PMMA.at(373.0 - 101.6, UNIVERSAL), r"temperature must lie above T_ref - c2"),
-    (lambda: materials.PMMA.at(272.0, UNIVERSAL),
-     r"temperature: at 272 K the shift factor a_T = .* takes the relaxation time terms\[0\] = 8.93 s to .* outside"),
+    (lambda: materials.PMMA.at(285.0, UNIVERSAL),
+     r"temperature: at 285 K the shift factor a_T = .* takes the relaxation time terms\[0\] = 8.93 s to .* outside"),
+    (lambda: materials.PMMA.at(272.0, UNIVERSAL), r"temperature 272.0 K gives log10 a_T = 1491.43 .* beyond 1e\+-300"),
     (lambda: materials.PMMA.at(-3.0, UNIVERSAL), r"temperature must be a temperature in kelvin"),
 ])
 def test_bad_temperatures_are_refused_by_name(make, message):
@@ -695,3 +716,25 @@ def test_vertical_shift_takes_out_the_entropic_factor():
     np.testing.assert_allclose(np.sort(curve.complex_modulus.real), np.sort(plain.complex_modulus.real), rtol=1e-13)
     with pytest.raises(errors.ParameterError, match="vertical must be a bool"):
         master_curve(data, reference=373.0, vertical="yes")
+
+
+@pytest.mark.parametrize("kind, values, message", [
+    ("relaxation", lambda t: 1e9 * (2 - np.exp(-t)), r"values: the relaxation modulus rises with time, from 1e\+09 at t = 0 s .* by 99.3 %"),
+    ("creep", lambda t: 1e-9 * (1 + np.exp(-t)), r"values: the creep compliance falls with time, from 2e-09 at t = 0 s .* by 49.7 %"),
+])
+def test_a_relaxation_that_rises_or_a_creep_that_falls_is_refused(kind, values, message):
+    """Such data gave a constant fit with no word; data that relax (or creep) with 1 % noise still fit."""
+    t = np.linspace(0.0, 5.0, 30)
+    with pytest.raises(errors.ParameterError, match=message):
+        fit_prony(t, values(t), kind=kind, poisson=0.4)
+    t = np.linspace(0.0, 500.0, 30)
+    noisy = materials.PMMA.relaxation(t) * (1 + 0.01 * np.random.default_rng(1).standard_normal(t.size))
+    assert fit_prony(t, noisy, kind="relaxation", poisson=0.4).rms_relative_error < 0.02
+
+
+def test_sweeps_that_do_not_overlap_are_refused():
+    """Two sweeps decades apart in modulus (a glassy and a rubbery one, 200 K apart) gave a shift of 5.6e-8."""
+    glassy = (W, (3e9 + 3e7j) * np.linspace(1, 1.1, W.size))
+    rubbery = (W, (2e6 + 2e5j) * np.linspace(1, 1.5, W.size))
+    with pytest.raises(errors.ParameterError, match=r"the sweeps at 300 K and 500 K do not overlap: .* decades apart"):
+        master_curve({300.0: glassy, 500.0: rubbery}, reference=300.0)

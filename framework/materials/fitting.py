@@ -232,6 +232,7 @@ def fit_prony(t=None, values=None, kind="relaxation", n_terms=None, times=None, 
     if kind == "dynamic":
         return _fit_dynamic(t, values, n_terms, times, poisson)
     t, values = _check_data(t, values)
+    _check_monotone(t, values, kind)
     grid = _time_grid(t, n_terms, times)
     if t.size < grid.size + 1:
         raise ParameterError(f"{grid.size} Prony times and a constant need at least {grid.size + 1} samples, "
@@ -344,6 +345,28 @@ def _fall_scatter(values):
     deviation = max(1.4826 * float(np.median(np.abs(second))), math.sqrt(6.0) * SCATTER_FLOOR)
     kept = second[np.abs(second) <= 5.0 * deviation]
     return max(math.sqrt(float(kept @ kept) / max(1, kept.size) / 6.0), SCATTER_FLOOR)
+
+
+def _check_monotone(t, values, kind):
+    """Refuse a relaxation modulus that clearly rises with time, or a creep compliance that clearly falls.
+
+    The same criterion as :func:`_check_rising` (a change beyond what the data's scatter explains over their
+    length): a Prony relaxation modulus never rises and a creep compliance never falls, so the non-negative fit of
+    such data is a constant, returned without a word before.
+    """
+    logs = np.log(values) if kind == "creep" else -np.log(values)   # should rise: the creep compliance
+    fall = np.maximum.accumulate(logs) - logs
+    j = int(np.argmax(fall))
+    scatter = _fall_scatter(values)
+    allowed = (2.0 * math.sqrt(2.0 * math.log(max(2, t.size))) + FALL_MARGIN) * scatter
+    if fall[j] > allowed:
+        i = int(np.argmax(logs[:j + 1]))
+        what, way = (("creep compliance", "falls"), ("relaxation modulus", "rises"))[kind == "relaxation"]
+        raise ParameterError(
+            f"values: the {what} {way} with time, from {float(values[i]):.6g} at t = {float(t[i]):.6g} s (index {i}) "
+            f"to {float(values[j]):.6g} at t = {float(t[j]):.6g} s (index {j}), by {100 * abs(values[j] / values[i] - 1):.3g} "
+            f"%: more than its scatter ({100 * scatter:.2g} %) explains; a {what} never {way} (is the kind "
+            f"{kind!r} right, are the columns in order?)")
 
 
 def _check_repeated(w, storage, loss):

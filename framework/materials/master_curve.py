@@ -244,12 +244,20 @@ def _storage_shift(first, second):
 
     Every point of each sweep whose ``log10 E'`` lies in the other's range is placed on the other's rising curve
     (:func:`_monotone`) at the same modulus; ``d`` is the mean of the frequency differences. Where the two ranges do
-    not overlap, the curves are compared across the gap (five levels, extended as power laws).
+    not overlap, the curves are compared across the gap (five levels, extended as power laws) if it is narrower than
+    either sweep's own rise; a wider gap is refused (it returned a shift of ~0 before).
     """
     (_, x_a, y_a, *_), (_, x_b, y_b, *_) = first, second
     (at_a, rising_a), (at_b, rising_b) = _monotone(x_a, y_a[:, 0]), _monotone(x_b, y_b[:, 0])
     low, high = max(rising_a[0], rising_b[0]), min(rising_a[-1], rising_b[-1])
     if low > high:
+        rise = min(rising_a[-1] - rising_a[0], rising_b[-1] - rising_b[0])
+        if low - high > rise:
+            raise ParameterError(
+                f"sweeps: the sweeps at {first[0]:g} K and {second[0]:g} K do not overlap: their storage moduli "
+                f"(10^{rising_a[0]:.4g} .. 10^{rising_a[-1]:.4g} and 10^{rising_b[0]:.4g} .. 10^{rising_b[-1]:.4g} Pa) "
+                f"lie {low - high:.3g} decades apart, more than either sweep spans ({rise:.3g}); expected "
+                f"temperatures close enough for neighbouring sweeps to share moduli, or give the shift")
         levels = np.linspace(high, low, 5)
         return float(np.mean(at_a(levels) - at_b(levels)))
     in_a = (y_b[:, 0] >= low) & (y_b[:, 0] <= high)

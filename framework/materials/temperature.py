@@ -46,8 +46,14 @@ __all__ = ["Arrhenius", "GAS_CONSTANT", "Shift", "WLF", "WLFArrhenius", "check_t
 GAS_CONSTANT = 8.314462618
 
 
+#: [K] Coldest temperature accepted: -200 degC, below where DMA instruments' liquid-nitrogen cooling stops (77 K)
+#: and far below any polymer's use. A colder value is almost surely degrees Celsius given for kelvin (23 for room
+#: temperature): it is refused with the kelvin value it likely meant.
+COLDEST = 73.15
+
+
 def check_temperatures(temperature, *, name="temperature"):
-    """``temperature`` [K] as a float array (any shape), finite and within ``LIMITS["K"]``."""
+    """``temperature`` [K] as a float array (any shape), finite, within ``LIMITS["K"]`` and above :data:`COLDEST`."""
     try:
         raw = np.asarray(temperature)
     except (TypeError, ValueError):   # ragged nested sequences
@@ -62,6 +68,15 @@ def check_temperatures(temperature, *, name="temperature"):
         where = f" at index {index}" if values.ndim else ""
         raise ParameterError(f"{name} must be a temperature in kelvin between {low:g} and {high:g} K, "
                              f"got {float(values[index])!r}{where}")
+    cold = values < COLDEST
+    if np.any(cold):
+        index = tuple(int(i) for i in np.argwhere(cold)[0])
+        where = f" at index {index}" if values.ndim else ""
+        value = float(values[index])
+        meant = f": it looks like degrees Celsius, {value:g} degC is {value + 273.15:g} K" if value + 273.15 > COLDEST \
+            else ""
+        raise ParameterError(f"{name} must be a temperature in kelvin above {COLDEST:g} K (-200 degC, colder than any "
+                             f"DMA or contact of a polymer), got {value!r}{where}{meant}")
     return values
 
 
@@ -81,6 +96,20 @@ def _scalar_or_array(values, like):
     return float(values) if np.ndim(like) == 0 else values
 
 
+#: Largest WLF constant accepted, c1 and c2 [K]: log10 a_T never exceeds c1 in magnitude above T_ref - c2, and beyond
+#: a few hundred decades no time of a run or a material is representable (relaxation times span 1e-40..1e40 s);
+#: measured constants are 5-50 and 20-200 K at T_g, larger only referred near the singularity.
+LARGEST_CONSTANT = 1e4
+
+
+def _check_constant(value, *, name, unit=""):
+    value = check_positive(value, name=name, unit=unit)
+    if value > LARGEST_CONSTANT:
+        raise ParameterError(f"{name} must be at most {LARGEST_CONSTANT:g}{' ' + unit if unit else ''} (measured WLF "
+                             f"constants are 5-50 and 20-200 K at the glass transition), got {value!r}")
+    return value
+
+
 class Shift:
     """A shift function ``a_T(T)`` with ``a_T(reference) = 1``: the base of :class:`WLF` and :class:`Arrhenius`."""
 
@@ -91,9 +120,21 @@ class Shift:
         raise NotImplementedError
 
     def factor(self, temperature):
-        """The shift factor ``a_T`` at ``temperature`` [K]: every time of the material is multiplied by it."""
-        with np.errstate(over="ignore"):
-            return _scalar_or_array(10.0 ** np.asarray(self.log10_factor(temperature)), temperature)
+        """The shift factor ``a_T`` at ``temperature`` [K]: every time of the material is multiplied by it.
+
+        Raises a ParameterError where ``a_T`` leaves double precision (beyond
+        1e+-300: near a WLF law's singularity), naming the temperature.
+        """
+        logs = np.asarray(self.log10_factor(temperature), dtype=float)
+        outside = np.abs(logs) > 300.0
+        if np.any(outside):
+            index = tuple(int(i) for i in np.argwhere(outside)[0])
+            value = float(np.asarray(temperature, dtype=float)[index]) if logs.ndim else float(temperature)
+            raise ParameterError(f"temperature {value!r} K gives log10 a_T = {float(logs[index]):.6g} under {self!r}: "
+                                 f"a shift factor beyond 1e+-300, outside double precision (too near the law's "
+                                 f"singularity or too far from its reference); expected a temperature nearer "
+                                 f"{self.reference:g} K")
+        return _scalar_or_array(10.0 ** logs, temperature)
 
 
 def _check_factors(temperatures, factors, reference):
@@ -135,8 +176,8 @@ class WLF(Shift):
     reference: float
 
     def __post_init__(self):
-        object.__setattr__(self, "c1", check_positive(self.c1, name="c1"))
-        object.__setattr__(self, "c2", check_positive(self.c2, name="c2", unit="K"))
+        object.__setattr__(self, "c1", _check_constant(self.c1, name="c1"))
+        object.__setattr__(self, "c2", _check_constant(self.c2, name="c2", unit="K"))
         object.__setattr__(self, "reference", check_temperature(self.reference, name="reference"))
 
     def log10_factor(self, temperature):
@@ -188,7 +229,16 @@ class WLF(Shift):
             return -p[0] * x / (p[1] + x) - y
         solution = least_squares(residual, start, bounds=([1e-12, floor * (1 + 1e-9) + 1e-12], [np.inf, np.inf]),
                                  xtol=1e-15, ftol=1e-15, gtol=1e-15)
-        return cls(c1=float(solution.x[0]), c2=float(solution.x[1]), reference=reference)
+        c1, c2 = (float(v) for v in solution.x)
+        if c1 <= 1e-9:
+            raise ParameterError(f"factors must fall as the temperature rises for a WLF law (a_T > 1 below the "
+                                 f"reference, < 1 above), got factors {np.round(10.0 ** y, 6).tolist()} at "
+                                 f"{(x + reference).tolist()} K: the fitted c1 sits at its bound 0")
+        if c1 > LARGEST_CONSTANT or c2 > LARGEST_CONSTANT:
+            raise ParameterError(f"factors do not follow a WLF law: the fitted c1 = {c1:.6g}, c2 = {c2:.6g} K exceed "
+                                 f"{LARGEST_CONSTANT:g} (the factors are straight in T: use Arrhenius.fit, or fit from "
+                                 f"the glass transition up, MasterCurve.fit_wlf)")
+        return cls(c1=c1, c2=c2, reference=reference)
 
 
 @dataclass(frozen=True)
@@ -274,8 +324,8 @@ class WLFArrhenius(Shift):
     reference: float
 
     def __post_init__(self):
-        object.__setattr__(self, "c1", check_positive(self.c1, name="c1"))
-        object.__setattr__(self, "c2", check_positive(self.c2, name="c2", unit="K"))
+        object.__setattr__(self, "c1", _check_constant(self.c1, name="c1"))
+        object.__setattr__(self, "c2", _check_constant(self.c2, name="c2", unit="K"))
         object.__setattr__(self, "glass_transition",
                            check_temperature(self.glass_transition, name="glass_transition"))
         object.__setattr__(self, "activation_energy",
