@@ -13,6 +13,25 @@ from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, ma
 #: positive stiffness, but its conditioning grows like ``1 / ratio``: GMRES takes 23 iterations at
 #: 0.2, 32 at 0.1, 44 at 0.05 (sphere, tolerance 1e-10). Voids are out of reach.
 MIN_STIFFNESS_RATIO = 0.05
+#: Inhomogeneities may be at most this stiff relative to the matrix (largest eigenvalue of the same matrix). Measured
+#: on a sphere (``tests/test_silent_results.py``): the stress converges to the rigid limit (within 1e-3 from 1e4
+#: up) in 60-120 GMRES iterations up to 1e8; beyond, nothing changes but the conditioning. Diamond in a
+#: 10 kPa gel is 1e8.
+MAX_STIFFNESS_RATIO = 1e8
+#: [Pa] No inhomogeneity is stiffer in shear than diamond, the stiffest solid: the largest eigenvalue of its Mandel
+#: stiffness on the deviatoric (volume-preserving) strains, twice a shear modulus, is 2 C44 = 1.16e12 Pa; the bound
+#: leaves 70 % margin. (Not in bulk: a nearly incompressible body's bulk modulus is legitimately unbounded.)
+STIFFEST = 2e12
+
+
+def _largest_shear(stiffness):
+    """Largest eigenvalue [Pa] of a Mandel stiffness restricted to the deviatoric strains (trace-free)."""
+    hydrostatic = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0]) / np.sqrt(3.0)
+    projector = np.eye(6) - np.outer(hydrostatic, hydrostatic)
+    return float(np.linalg.eigvalsh(projector @ stiffness @ projector)[-1])
+#: The applied strain must be small (largest component), as linear elasticity, the theory of every operator here,
+#: assumes: at 10 % strain a body's geometry has changed by 10 %.
+LARGEST_STRAIN = 0.1
 
 
 def instantaneous(matrix):
@@ -138,6 +157,17 @@ class InclusionProblem:
         # checked before the operator is built (seconds on a large box), with the matrices the system uses
         matrix_stiffness = isotropic_mandel(instantaneous(matrix), matrix.poisson)
         for k, stiffness in enumerate(stiffnesses):
+            largest = _largest_shear(mandel_matrix(stiffness))
+            if largest > STIFFEST:
+                raise ParameterError(f"inclusions[{k}].material is stiffer than any solid: its stiffness in shear reaches "
+                                     f"{largest:.3g} Pa (twice a shear modulus), expected at most {STIFFEST:g} Pa "
+                                     f"(diamond, the stiffest solid, has 1.16e12)")
+            stiffest = float(np.max(np.linalg.eigvalsh(np.linalg.solve(matrix_stiffness, mandel_matrix(stiffness)))))
+            if stiffest > MAX_STIFFNESS_RATIO * (1 + 1e-9):   # round-off of an exact 1e8
+                raise ParameterError(f"inclusions[{k}].material is {stiffest:.3g} times stiffer than the matrix along its "
+                                     f"stiffest mode, expected at most {MAX_STIFFNESS_RATIO:g}: beyond it the inclusion "
+                                     f"is rigid to round-off and only the conditioning changes; give it a stiffness "
+                                     f"{MAX_STIFFNESS_RATIO:g} times the matrix's for a rigid body")
             ratio, volumetric = softest_mode(mandel_matrix(stiffness), matrix_stiffness)
             if ratio < MIN_STIFFNESS_RATIO:
                 bulk = (f"; the softest mode is a change of volume: the matrix's poisson {matrix.poisson!r} makes "
@@ -147,6 +177,8 @@ class InclusionProblem:
                                      f"stiffness is {ratio:.3g} times the matrix's along its softest mode, expected "
                                      f">= {MIN_STIFFNESS_RATIO} (the system's conditioning grows like 1/ratio; voids "
                                      f"are not supported){bulk}")
+        self._stiffer = [float(np.mean(np.linalg.eigvalsh(np.linalg.solve(matrix_stiffness, mandel_matrix(c))))) > 1.0
+                         for c in stiffnesses]
         start, self.shape, self.indicator = layout(grid, inclusions, margin)
         starts = None
         if travel is not None:
@@ -203,8 +235,11 @@ class InclusionProblem:
     def stress_at(self, points, applied_strain, eigenstrain):
         """Total stress ``(n, 6)`` [Pa] at points ``(n, 3)`` [m]: applied strain plus the eigenstrains' field.
 
-        Inside an inhomogeneity (its exact ellipsoid) the stress is ``C_I : strain``; elsewhere
-        ``C_M : (strain - e*)`` with ``e*`` the eigenstrain of the cuboid holding the point.
+        ``C_M : (strain - e*)`` with ``e*`` the eigenstrain of the cuboid holding the point (zero in the matrix),
+        except in the cuboids of an inhomogeneity softer than the matrix (mean stiffness ratio below 1), where
+        it is ``C_I : strain``: the two are equal at the solution, and each form multiplies the difference
+        between the point strain and the cell-averaged strain the solver balanced by the smaller stiffness. A
+        point is in a body where its cuboid is (the bodies are their cuboids).
         ``applied_strain`` is a function of the points returning ``(n, 6)`` strains.
         """
         points = check_finite_array(points, name="points", ndim=2)
@@ -223,8 +258,15 @@ class InclusionProblem:
         cell = np.zeros((len(points), 6))
         cell[inside_box] = eigenstrain[tuple(index[inside_box].T)]
         stress = ((strain - cell) * MANDEL) @ self.problem.matrix.T
-        for k, inclusion in enumerate(self.inclusions):
-            inside = inclusion.contains(points)
+        body = np.zeros(len(points), dtype=int)
+        body[inside_box] = self.indicator[tuple(index[inside_box].T)]
+        for k in range(len(self.inclusions)):
+            # a softer body: C_I : strain; a stiffer one keeps C_M : (strain - e*) (equal at the solution), as
+            # C_I would multiply the small difference between the point strain and the cell-averaged one the
+            # solver balanced by the stiffness ratio (a 1000x stiffer sphere's centre read -0.2 for 2.3 MPa)
+            if self._stiffer[k]:
+                continue
+            inside = body == k + 1
             stress[inside] = (strain[inside] * MANDEL) @ self.problem.stiffness[k].T
         return stress / MANDEL
 
@@ -291,6 +333,9 @@ def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, 
     if not isinstance(inclusions, InclusionSet):
         inclusions = InclusionSet(inclusions)
     applied = strain_vector(applied_strain, name="applied_strain")
+    if np.max(np.abs(applied)) > LARGEST_STRAIN:
+        raise ParameterError(f"applied_strain must be small, every component at most {LARGEST_STRAIN:g} in magnitude "
+                             f"(linear elasticity), got a largest component of {float(np.max(np.abs(applied))):g}")
     problem = InclusionProblem(grid, matrix, inclusions, margin=margin)
     solution = problem.problem.solve(applied, tolerance=tolerance)
     return InclusionSolution(problem, applied, solution)
