@@ -80,29 +80,29 @@ def plot(centred, results, mean_pressure, out):
         return
     grid = centred.grid
     row = int(np.argmin(np.abs(grid.x2)))
-    fig, axes = plt.subplots(1, len(ECCENTRICITIES), figsize=(15, 3.8), sharey=True)
+    fig, axes = plt.subplots(1, len(ECCENTRICITIES), figsize=(16, 3.8), sharey=True, layout="constrained")
     for ax, e in zip(axes, ECCENTRICITIES):
         result = results[e]
-        ax.plot(grid.x1 / A, centred.pressure(0)[:, row] / mean_pressure, "k:", label="centred, t = 0")
+        ax.plot(grid.x1 / A, centred.pressure(0)[:, row] / mean_pressure, "k:", label="centred, $t$ = 0")
         for t in PROFILE_TIMES:
             k = int(np.argmin(np.abs(result.times - t)))
-            ax.plot(grid.x1 / A, result.pressure(k)[:, row] / mean_pressure, label=f"t = {result.times[k]:g} s")
-        ax.set(title=f"e = {e}", xlabel="x1 / a", xlim=(-1.6, 1.6))
-    axes[0].set_ylabel("p / p_mean")
-    axes[-1].legend(fontsize=8)
-    fig.suptitle("Eccentric rounded punch on PMMA: pressure along x1")
-    fig.tight_layout()
+            ax.plot(grid.x1 / A, result.pressure(k)[:, row] / mean_pressure, label=f"$t$ = {result.times[k]:g} s")
+        ax.set(title=f"$e$ = {e}", xlabel="$x_1 / a$", xlim=(-1.6, 1.6))
+    axes[0].set_ylabel(r"$p \,/\, p_\mathrm{mean}$")
+    # beside the panels, not over a curve (the profiles fill every panel's corners)
+    fig.legend(*axes[-1].get_legend_handles_labels(), loc="outside right center", fontsize=8)
+    fig.suptitle("Eccentric rounded punch on PMMA: pressure along $x_1$")
     fig.savefig(os.path.join(out, "eccentric_pressure.png"), dpi=110)
     for name, values, ylabel, label in (
-            ("eccentric_tilt.png", lambda r: r.tilt[:, 0] / r.tilt[0, 0], "tilt(t) / tilt(0)",
-             lambda r: f", tilt(0) = {r.tilt[0, 0] * 1e3:.1f} mrad"),
-            ("eccentric_max_pressure.png", lambda r: r.max_pressure / mean_pressure, "p_max / p_mean",
-             lambda r: "")):
+            ("eccentric_tilt.png", lambda r: r.tilt[:, 0] / r.tilt[0, 0], r"tilt $\alpha(t) \,/\, \alpha(0)$",
+             lambda r: f", $\\alpha(0)$ = {r.tilt[0, 0] * 1e3:.1f} mrad"),
+            ("eccentric_max_pressure.png", lambda r: r.max_pressure / mean_pressure,
+             r"$p_\mathrm{max} \,/\, p_\mathrm{mean}$", lambda r: "")):
         fig, ax = plt.subplots(figsize=(6, 4))
         for e in ECCENTRICITIES:
             result = results[e]
-            ax.semilogx(result.times[1:], values(result)[1:], label=f"e = {e}{label(result)}")
-        ax.set(xlabel="time [s]", ylabel=ylabel, title=f"Eccentric rounded punch on PMMA: {ylabel}")
+            ax.semilogx(result.times[1:], values(result)[1:], label=f"$e$ = {e}{label(result)}")
+        ax.set(xlabel="time $t$ [s]", ylabel=ylabel, title=f"Eccentric rounded punch on PMMA: {ylabel}")
         ax.legend()
         fig.tight_layout()
         fig.savefig(os.path.join(out, name), dpi=110)

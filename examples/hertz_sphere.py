@@ -55,8 +55,9 @@ def main(cells=129, out="out/examples"):
         exact = reference.HertzSphere(radius=radius, load=load, contact_modulus=steel.contact_modulus)
         line, = ax.plot(x * 1e6, exact.pressure(np.abs(x)) / 1e6, lw=1)
         ax.plot(grid.x1 * 1e6, result.pressure(k)[:, middle] / 1e6, "o", ms=2.5, color=line.get_color(),
-                label=f"W = {load:g} N")
-    ax.set(xlabel="x1 [um]", ylabel="pressure [MPa]", title="Sphere on steel: simulation (dots), Hertz (lines)")
+                label=f"$W$ = {load:g} N")
+    ax.set(xlabel="$x_1$ [\u00b5m]", ylabel="pressure $p$ [MPa]",
+           title="Sphere on steel: simulation (dots), Hertz (lines)")
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(out, "hertz_sphere.png"), dpi=120)

@@ -189,13 +189,13 @@ def plot_profiles(Figure, grid, profiles, out):
                 label="homogeneous, this grid")
         for (case, depth), profile in profiles.items():
             if case == name:
-                ax.step(x, profile / HERTZ.max_pressure, where="mid", label=f"centre depth {depth:g} a")
-        ax.set(xlim=(-1.5, 1.5), xlabel="x1 / a", title=label)
+                ax.step(x, profile / HERTZ.max_pressure, where="mid", label=f"centre depth {depth:g} $a$")
+        ax.set(xlim=(-1.5, 1.5), xlabel="$x_1 / a$", title=label)
         ax.legend(fontsize=8, loc="lower center")
         ax.grid(True, alpha=0.3)
-    axes[0].set_ylabel("p / p0 (Hertz)")
-    figure.suptitle(f"Pressure along x1 through the axis: rigid ball R = {RADIUS * 1e3:g} mm, W = {LOAD:g} N on "
-                    f"steel, a = {A * 1e3:.3g} mm, p0 = {HERTZ.max_pressure / 1e9:.3g} GPa", fontsize=10)
+    axes[0].set_ylabel("$p / p_0$ (Hertz)")
+    figure.suptitle(f"Pressure along $x_1$ through the axis: rigid ball $R$ = {RADIUS * 1e3:g} mm, $W$ = {LOAD:g} N "
+                    f"on steel, $a$ = {A * 1e3:.3g} mm, $p_0$ = {HERTZ.max_pressure / 1e9:.3g} GPa", fontsize=10)
     return _save(figure, out, "inhomogeneity_pressure.png")
 
 
@@ -207,7 +207,7 @@ def plot_peaks(Figure, rows, out):
         ax.plot([row["centre_depth_over_a"] for row in mine], [row["max_pressure_ratio"] - 1 for row in mine],
                 "o-", label=label)
     ax.axhline(0.0, color="k", linewidth=0.8)
-    ax.set(xlabel="centre depth / a", ylabel="p_max / p_max(homogeneous) - 1",
+    ax.set(xlabel="centre depth / $a$", ylabel=r"$p_\mathrm{max} \,/\, p_\mathrm{max}^\mathrm{hom} - 1$",
            title="Peak pressure against the inhomogeneity's depth")
     ax.legend(fontsize=8)
     ax.grid(True, alpha=0.3)
@@ -221,14 +221,14 @@ def plot_slices(Figure, slices, out):
     for ax, (name, (inclusion, (x1, x3, field))) in zip(np.atleast_1d(axes), slices.items()):
         image = ax.pcolormesh(x1 / A, x3 / A, field / HERTZ.max_pressure, shading="nearest", cmap="magma", vmin=0, vmax=top)
         ax.plot(*outline(inclusion), "c-", linewidth=1.2)
-        ax.set(xlabel="x1 / a", title=f"{CASES[name][0]}\ncentre depth {SLICE_DEPTH:g} a, "
-               f"max {field.max() / HERTZ.max_pressure:.3f} p0", aspect="equal")
+        ax.set(xlabel="$x_1 / a$", title=f"{CASES[name][0]}\ncentre depth {SLICE_DEPTH:g} $a$, "
+               f"max {field.max() / HERTZ.max_pressure:.3f} $p_0$", aspect="equal")
         ax.title.set_fontsize(9)
-    axes[0].set_ylabel("depth x3 / a")
+    axes[0].set_ylabel("depth $x_3 / a$")
     axes[0].invert_yaxis()
-    figure.colorbar(image, ax=list(np.atleast_1d(axes)), label="von Mises / p0", shrink=0.9)
-    figure.suptitle("Von Mises stress at the cuboid centres of the plane x2 = 0 (with the eigenstrains' fields); "
-                    "cyan: the inhomogeneity (homogeneous half-space: peak 0.62 p0 at 0.48 a)", fontsize=10)
+    figure.colorbar(image, ax=list(np.atleast_1d(axes)), label="von Mises stress / $p_0$", shrink=0.9)
+    figure.suptitle("Von Mises stress at the cuboid centres of the plane $x_2$ = 0 (with the eigenstrains' fields); "
+                    "cyan: the inhomogeneity (homogeneous half-space: peak 0.62 $p_0$ at 0.48 $a$)", fontsize=10)
     return _save(figure, out, "inhomogeneity_von_mises.png")
 
 

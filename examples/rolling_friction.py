@@ -341,7 +341,7 @@ def plot_friction(Figure, curves, out):
                ylim=(1e-6, 0.1))
         ax.grid(True, which="major", alpha=0.3)
         ax.legend(fontsize=8, loc="lower center")
-    axes[0].set_ylabel("friction coefficient mu = F_t / W  [-]")
+    axes[0].set_ylabel(r"friction coefficient $\mu = F_t / W$ [-]")
     figure.suptitle("Rolling (frictionless sliding) friction on viscoelastic solids, R = 10 mm; a0: relaxed Hertz "
                     "radius, b0: relaxed half-width, T: longest retardation time", fontsize=10)
     return _save(figure, out, "rolling_friction.png")
@@ -368,14 +368,15 @@ def plot_maps(Figure, curves, out):
             ax.plot(result.center[0, 0] / case.a0, 0, "X", color="tab:red", markeredgecolor="w", markersize=9)
             ax.annotate("V", xy=(1.4, -1.3), xytext=(0.8, -1.3), color="w", va="center", ha="right",
                         arrowprops=dict(arrowstyle="->", color="w"))
-            ax.set_title(f"{case.label}, {where}\nV T / a0 = {dimensionless[k]:.3g}, mu = "
-                         f"{result.friction_coefficient[0]:.3g}, centre x1 = {result.center[0, 0] / case.a0:.3f} a0",
+            ax.set_title(f"{case.label}, {where}\n$V T / a_0$ = {dimensionless[k]:.3g}, $\\mu$ = "
+                         f"{result.friction_coefficient[0]:.3g}, centre $x_1$ = "
+                         f"{result.center[0, 0] / case.a0:.3f} $a_0$",
                          fontsize=9)
-            ax.set(xlabel="x1 / a0 (along the motion)", ylabel="x2 / a0")
-        figure.colorbar(image, ax=list(row[:3]), label="p / p0 (relaxed Hertz peak)", shrink=0.9)
+            ax.set(xlabel="$x_1 / a_0$ (along the motion)", ylabel="$x_2 / a_0$")
+        figure.colorbar(image, ax=list(row[:3]), label="$p / p_0$ (relaxed Hertz peak)", shrink=0.9)
         middle = int(np.argmin(np.abs(grid.x2)))
         draw_profiles(row[3], case, dimensionless, results, middle)
-        row[3].set_title(f"{case.label}: along x1 at x2 = {grid.x2[middle] / case.a0:.2g} a0", fontsize=9)
+        row[3].set_title(f"{case.label}: along $x_1$ at $x_2$ = {grid.x2[middle] / case.a0:.2g} $a_0$", fontsize=9)
     figure.suptitle("Sphere: steady pressure in the body's frame; dashed circle: relaxed Hertz contact, white +: "
                     "the axis, red x: the pressure centre", fontsize=10)
     return _save(figure, out, "rolling_pressure_maps.png")
@@ -394,9 +395,10 @@ def draw_profiles(ax, case, dimensionless, results, column):
         result = results[k]
         top = max(top, result.max_pressure[0])
         ax.step(result.grid.x1 / case.a0, result.pressure(0)[:, column] / p0, where="mid",
-                label=f"V T / {size} = {dimensionless[k]:.3g} ({where}), mu = {result.friction_coefficient[0]:.3g}")
-    ax.set(xlim=(-1.5, 1.5), ylim=(0, 1.5 * top / p0), xlabel=f"x1 / {size} (the body moves towards +x1)",
-           ylabel="p / p0 (relaxed Hertz peak)  [-]")
+                label=f"$V T / {size[0]}_0$ = {dimensionless[k]:.3g} ({where}), "
+                      f"$\\mu$ = {result.friction_coefficient[0]:.3g}")
+    ax.set(xlim=(-1.5, 1.5), ylim=(0, 1.5 * top / p0), xlabel=f"$x_1 / {size[0]}_0$ (the body moves towards $+x_1$)",
+           ylabel="$p / p_0$ (relaxed Hertz peak) [-]")
     ax.legend(fontsize=7.5, loc="upper left")
 
 

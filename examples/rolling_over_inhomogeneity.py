@@ -175,7 +175,8 @@ def pictures(results, out):
         for ax, values in zip(row, (result.friction_coefficient, result.torque, result.max_pressure / 1e6)):
             ax.plot(x, values, "k--" if CASES[case][2] is None else "-", label=case)
     for row, base in zip(axes, matrices):
-        for ax, label in zip(row, ("friction coefficient", "rolling torque [N m]", "peak pressure [MPa]")):
+        for ax, label in zip(row, ("friction coefficient $\\mu$", "rolling torque [N m]",
+                                   "peak pressure $p_\\mathrm{max}$ [MPa]")):
             ax.set(xlabel="body position relative to the inhomogeneity [mm]", ylabel=label)
             ax.axvline(0.0, color="grey", linewidth=0.8)
             ax.grid(True, alpha=0.3)

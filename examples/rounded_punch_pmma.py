@@ -83,27 +83,27 @@ def plot(results, out):
         mean_pressure = load / (np.pi * a**2)
         for t in PROFILE_TIMES:
             k = int(np.argmin(np.abs(result.times - t)))
-            ax.plot(grid.x1 / a, result.pressure(k)[:, row] / mean_pressure, label=f"t = {result.times[k]:g} s")
-        ax.set(title=f"flat radius {ratio}a", xlabel="x1 / a", xlim=(-1.3, 1.3))
-    axes[0].set_ylabel("p / p_mean")
+            ax.plot(grid.x1 / a, result.pressure(k)[:, row] / mean_pressure, label=f"$t$ = {result.times[k]:g} s")
+        ax.set(title=f"flat radius {ratio}$a$", xlabel="$x_1 / a$", xlim=(-1.3, 1.3))
+    axes[0].set_ylabel(r"$p \,/\, p_\mathrm{mean}$")
     axes[-1].legend()
-    fig.suptitle("Rounded flat punch on PMMA: pressure along x1")
+    fig.suptitle("Rounded flat punch on PMMA: pressure along $x_1$")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "pmma_pressure.png"), dpi=110)
-    for name, quantity, ylabel in (("pmma_area.png", "area", "A(t) / A(0)"),
-                                   ("pmma_pressures.png", "pressure", "p(t) / p(0)")):
+    for name, quantity, ylabel in (("pmma_area.png", "area", "$A(t) \\,/\\, A(0)$"),
+                                   ("pmma_pressures.png", "pressure", "$p(t) \\,/\\, p(0)$")):
         fig, ax = plt.subplots(figsize=(6, 4))
         for ratio in RATIOS:
             result, _ = results[ratio]
             times = result.times[1:]
             if quantity == "area":
-                ax.semilogx(times, result.contact_area[1:] / result.contact_area[0], label=f"b = {ratio}a")
+                ax.semilogx(times, result.contact_area[1:] / result.contact_area[0], label=f"$b$ = {ratio}$a$")
             else:
                 centre = np.unravel_index(np.argmin(np.hypot(*result.grid.coordinates())), result.grid.shape)
                 central = np.array([result.pressure(k)[centre] for k in range(len(result))])
-                line, = ax.semilogx(times, result.max_pressure[1:] / result.max_pressure[0], label=f"max, b = {ratio}a")
-                ax.semilogx(times, central[1:] / central[0], "--", color=line.get_color(), label=f"centre, b = {ratio}a")
-        ax.set(xlabel="time [s]", ylabel=ylabel, title=f"Rounded punch on PMMA: {quantity} vs time")
+                line, = ax.semilogx(times, result.max_pressure[1:] / result.max_pressure[0], label=f"max, $b$ = {ratio}$a$")
+                ax.semilogx(times, central[1:] / central[0], "--", color=line.get_color(), label=f"centre, $b$ = {ratio}$a$")
+        ax.set(xlabel="time $t$ [s]", ylabel=ylabel, title=f"Rounded punch on PMMA: {quantity} vs time")
         ax.legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(out, name), dpi=110)

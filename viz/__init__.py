@@ -10,12 +10,20 @@ when a function needs them (``pip install 'viscocontact[viz]'``).
   (subsurface stresses, hexahedra) and ``indenter_NNNN.vtu``, with
   ``surface.pvd``, ``volume.pvd`` and ``indenter.pvd`` time collections in
   physical time, and for a run with inhomogeneities ``inclusions.vtp`` (their
-  surfaces); :class:`Exporter` streams step by step.
+  surfaces); the version and configuration as text (VTK string arrays);
+  :class:`Exporter` streams step by step.
 * :func:`render` (:mod:`viz.render`): off-screen PNG pictures of one step, a
-  pressure map, the deformed surface in 3-D or a subsurface stress slice.
+  pressure map, the deformed surface in 3-D or a subsurface stress slice; a
+  map or slice sized to the field's aspect. Its parts, one module each:
+  :mod:`viz.fields` (what can be coloured), :mod:`viz.slices` (the plane a
+  slice shows), :mod:`viz.scales` (colour ranges, units, ticks),
+  :mod:`viz.labels` (titles and axis names, mathtext), :mod:`viz.layout`
+  (window size, cameras), :mod:`viz.overlay` (title, axes and colour bar in
+  pixels), :mod:`viz.outlines` (contact edge, inhomogeneities, indenter),
+  :mod:`viz.checks` (the arguments' checks).
 * :func:`animate` (:mod:`viz.animate`): the recorded steps as an off-screen
-  ``.gif`` or ``.mp4``, every frame a :func:`render` picture with one colour
-  range.
+  ``.mp4`` or ``.gif``, every frame a :func:`render` picture with one colour
+  range. Both take a result or the path of a saved result file.
 * :func:`plot_history` (:mod:`viz.plot`): per-step series against time, load
   or approach (matplotlib).
 * :mod:`viz.meshes`: the same meshes in memory (pyvista), with the geometry,

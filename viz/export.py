@@ -21,16 +21,17 @@ which ParaView's tensor filters expect (the framework's
 components are also written one by one (``stress_xx`` ...).
 
 Every VTU file carries the field data ``framework_version`` and
-``configuration`` (JSON of ``result.configuration()``), both UTF-8 text stored
-as uint8 arrays because meshio cannot read VTK string arrays (decode with
-:func:`viz.meshes.decode_text`), plus ``time`` [s], ``TimeValue`` [s] and
-``step``. ``inclusions.vtp`` (polygonal data, the same for every step: the
+``configuration`` (JSON of ``result.configuration()``) as VTK string arrays,
+which ParaView shows as text (``Exporter(..., meshio=True)`` stores them as
+UTF-8 uint8 arrays instead: meshio refuses a file holding a string array;
+:func:`viz.meshes.decode_text` reads both), plus ``time`` [s], ``TimeValue``
+[s] and ``step``. ``inclusions.vtp`` (polygonal data, the same for every step: the
 inhomogeneities do not move) carries ``framework_version`` and
 ``configuration`` only, and the cell data ``inhomogeneity`` (``k + 1`` on
 the ``k``-th, as in the volume files), ``young`` and ``poisson`` (see
 :func:`viz.meshes.inclusion_mesh`); open it beside ``volume.pvd``.
 Files are binary (raw appended data, zlib compressed, float64) and
-readable by ParaView, pyvista/VTK and meshio.
+readable by ParaView and pyvista/VTK, and with ``meshio=True`` by meshio.
 
 Each file is written under a temporary name in the same folder and moved into
 place with :func:`os.replace`, and the collections are rewritten after every
@@ -157,6 +158,11 @@ class Exporter:
         rounding 6e-8; default False: float64, the exact values). With 24
         layers on 129 x 129 cells a volume file holds 400k hexahedra, about
         50 MB in float64.
+    meshio : bool
+        Store the text field data (``framework_version``, ``configuration``)
+        as UTF-8 uint8 arrays, so that meshio (5.3), which refuses a file
+        holding a VTK string array, reads the files; ParaView then shows the
+        text as numbers. Default False: VTK string arrays, shown as text.
 
     Attributes
     ----------
@@ -179,12 +185,14 @@ class Exporter:
             exporter.write(result, len(result) - 1)
     """
 
-    def __init__(self, folder, *, surface=True, volume=None, indenter=True, compress=True, single=False):
+    def __init__(self, folder, *, surface=True, volume=None, indenter=True, compress=True, single=False,
+                 meshio=False):
         self.folder = os.fspath(folder)
         os.makedirs(self.folder, exist_ok=True)
         self._enabled = {"surface": bool(surface), "volume": volume, "indenter": bool(indenter)}
         self.compress = bool(compress)
         self.single = bool(single)
+        self.strings = not meshio
         self._entries = {name: {} for name in COLLECTIONS}
         self._configuration = None
         self.files = []
@@ -225,8 +233,8 @@ class Exporter:
             self._remember(path)
             if getattr(result, "inclusions", None):
                 mesh = meshes.inclusion_mesh(result.inclusions)
-                mesh.field_data["framework_version"] = meshes.encode_text(str(result.version))
-                mesh.field_data["configuration"] = meshes.encode_text(self._configuration)
+                meshes.add_text(mesh, "framework_version", str(result.version), self.strings)
+                meshes.add_text(mesh, "configuration", self._configuration, self.strings)
                 path = os.path.join(self.folder, "inclusions.vtp")
                 _write_vtu(mesh, path, self.compress)
                 self._remember(path)
@@ -252,7 +260,7 @@ class Exporter:
                     if mesh.cell_data[key].dtype == np.float64:
                         mesh.cell_data[key] = mesh.cell_data[key].astype(np.float32)
             meshes.to_material_frame(mesh, result, k)
-            meshes.attach_metadata(mesh, result, k, self._configuration)
+            meshes.attach_metadata(mesh, result, k, self._configuration, self.strings)
             filename = f"{name}_{k:04d}.vtu"
             path = os.path.join(self.folder, filename)
             _write_vtu(mesh, path, self.compress)
@@ -288,7 +296,7 @@ def export(result, folder, steps=None, **options):
     steps : int or sequence of int, optional
         Step indices to write (negative count from the end); all by default.
     **options
-        ``surface``, ``volume``, ``indenter``, ``compress``, ``single``: see :class:`Exporter`.
+        ``surface``, ``volume``, ``indenter``, ``compress``, ``single``, ``meshio``: see :class:`Exporter`.
 
     Returns
     -------

@@ -203,16 +203,43 @@ def stress_measures(stress):
 
 
 def encode_text(text):
-    """UTF-8 bytes of ``text`` as a uint8 array (a field-data array every VTU reader, meshio included, can read)."""
+    """UTF-8 bytes of ``text`` as a uint8 array: field data meshio can read (ParaView shows it as numbers)."""
     return np.frombuffer(text.encode("utf-8"), dtype=np.uint8).copy()
 
 
 def decode_text(array):
-    """Text stored by :func:`encode_text` (accepts a uint8 array or a VTK string array as read by pyvista)."""
+    """Text stored by :func:`add_text` or :func:`encode_text` (a VTK string array as read by pyvista, or uint8)."""
     array = np.asarray(array)
     if array.dtype.kind in "US" or array.dtype == object:
         return str(array.ravel()[0]) if array.size == 1 else "".join(str(a) for a in array.ravel())
     return bytes(array.astype(np.uint8).ravel()).decode("utf-8")
+
+
+def add_text(mesh, name, text, strings=True):
+    """Store ``text`` as the field data ``name`` of ``mesh``.
+
+    Parameters
+    ----------
+    mesh : pyvista.DataSet
+        The mesh to write.
+    name, text : str
+        Array name and its text (UTF-8).
+    strings : bool
+        True: a one-value ``vtkStringArray``, written as ``<Array
+        type="String">``, which ParaView's spreadsheet and information panel
+        show as text. False: the UTF-8 bytes as a uint8 array
+        (:func:`encode_text`), for readers that refuse string arrays (meshio
+        5.3 refuses the whole file).
+    """
+    if not strings:
+        mesh.field_data[name] = encode_text(text)
+        return mesh
+    array = _deps.require("vtkmodules.vtkCommonCore").vtkStringArray()
+    array.SetName(name)
+    array.InsertNextValue(text)
+    mesh.GetFieldData().RemoveArray(name)
+    mesh.GetFieldData().AddArray(array)
+    return mesh
 
 
 def configuration_json(result):
@@ -228,17 +255,18 @@ def _plain(obj):
     return repr(obj)
 
 
-def attach_metadata(mesh, result, step, configuration=None):
+def attach_metadata(mesh, result, step, configuration=None, strings=True):
     """Add the field data every exported file carries.
 
     ``framework_version`` and ``configuration`` (JSON of
-    ``result.configuration()``) as UTF-8 uint8 arrays (decode with
-    :func:`decode_text`), ``time`` [s] and ``TimeValue`` [s] (the name
-    ParaView looks for), ``step`` (index into the result).
+    ``result.configuration()``) as text (:func:`add_text`: VTK string arrays,
+    or with ``strings=False`` UTF-8 uint8 arrays; :func:`decode_text` reads
+    both), ``time`` [s] and ``TimeValue`` [s] (the name ParaView looks for),
+    ``step`` (index into the result).
     """
     k = step_index(result, step)
-    mesh.field_data["framework_version"] = encode_text(str(result.version))
-    mesh.field_data["configuration"] = encode_text(configuration or configuration_json(result))
+    add_text(mesh, "framework_version", str(result.version), strings)
+    add_text(mesh, "configuration", configuration or configuration_json(result), strings)
     mesh.field_data["time"] = np.array([result.times[k]], dtype=float)
     mesh.field_data["TimeValue"] = np.array([result.times[k]], dtype=float)
     mesh.field_data["step"] = np.array([k], dtype=np.int64)

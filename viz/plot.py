@@ -2,9 +2,11 @@
 
 The figure is made with :class:`matplotlib.figure.Figure` directly (no pyplot,
 no GUI backend, no global state), one panel per quantity. Lengths, areas and
-pressures are shown in a readable unit (``contact radius [mm]``,
-``max pressure [MPa]``, chosen like the pictures' colour bars by
-:func:`viz.render.display_unit`), other quantities in SI units.
+pressures are shown in a readable unit (``contact radius $a$ [mm]``,
+``peak pressure $p_\\mathrm{max}$ [MPa]``, chosen like the pictures' colour bars by
+:func:`viz.scales.display_unit`), other quantities in SI units; symbols are
+mathtext. A result of one step has no history to draw: its values are written
+out instead, one line per quantity.
 """
 import os
 
@@ -13,28 +15,28 @@ import numpy as np
 from framework.errors import ParameterError
 
 from . import _deps
-from .render import display_unit
+from .scales import display_unit
 
-#: Series that can be plotted: name -> (label, SI unit, component names or None).
+#: Series that can be plotted: name -> (label, SI unit, component names or None). Symbols in mathtext.
 QUANTITIES = {
-    "load": ("load", "N", None),
-    "approach": ("approach", "m", None),
-    "contact_area": ("contact area", "m\u00b2", None),
-    "contact_radius": ("contact radius", "m", None),
-    "max_pressure": ("max pressure", "Pa", None),
-    "center": ("load centre", "m", ("x1", "x2")),
-    "tilt": ("tilt", "rad", ("x1", "x2")),
-    "half_width": ("half-width", "m", None),
-    "friction_coefficient": ("friction coefficient", "-", None),
+    "load": ("load $W$", "N", None),
+    "approach": ("approach $\\delta$", "m", None),
+    "contact_area": ("contact area $A$", "m\u00b2", None),
+    "contact_radius": ("contact radius $a$", "m", None),
+    "max_pressure": ("peak pressure $p_\\mathrm{max}$", "Pa", None),
+    "center": ("load centre", "m", ("$x_1$", "$x_2$")),
+    "tilt": ("tilt", "rad", ("$x_1$", "$x_2$")),
+    "half_width": ("half-width $b$", "m", None),
+    "friction_coefficient": ("friction coefficient $\\mu$", "-", None),
     "torque": ("torque", "N m", None),
     "dissipated_power": ("dissipated power", "W", None),
-    "position": ("position", "m", ("x1", "x2")),
+    "position": ("position", "m", ("$x_1$", "$x_2$")),
     "iterations": ("solver iterations", "-", None),
     "residual": ("solver residual", "-", None),
 }
 
 #: Abscissae: name -> (label, SI unit).
-AGAINST = {"time": ("time", "s"), "load": ("load", "N"), "approach": ("approach", "m"),
+AGAINST = {"time": ("time $t$", "s"), "load": ("load $W$", "N"), "approach": ("approach $\\delta$", "m"),
            "position": ("distance rolled", "m")}
 
 DEFAULT = ("load", "approach", "contact_radius", "max_pressure")
@@ -79,6 +81,8 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
         more than two decades, else linear; linear otherwise.
     title : str, optional
         Figure title; default: indenter, material and number of steps.
+        A result of one step gets its values written out, one line per
+        quantity, instead of panels of a single point.
     dpi : int
         Resolution [dots per inch].
 
@@ -109,6 +113,8 @@ def plot_history(result, png, quantities=DEFAULT, *, against="time", xscale=None
     if len(result) == 0:
         raise ParameterError("the result has no steps to plot")
     figure_module = _deps.require("matplotlib.figure")
+    if len(result) == 1:
+        return _values(result, png, quantities, figure_module, title, dpi)
     xlabel, xunit = AGAINST[against]
     x = _abscissa(result, against)
     x_scale, xunit = display_unit(xunit, _magnitude(x))
@@ -177,4 +183,35 @@ def _resolution(result, name):
 def _default_title(result):
     indenter, material = type(result.indenter).__name__, type(result.material).__name__
     n1, n2 = result.grid.shape
-    return f"{indenter} on {material}, {n1} x {n2} cells, {len(result)} steps"
+    steps = len(result)
+    return f"{indenter} on {material}, {n1} \u00d7 {n2} cells, {steps} step{'' if steps == 1 else 's'}"
+
+
+def value_text(result, name, k=0):
+    """``contact radius $a$ = 149.3 µm``: one quantity of step ``k`` in its readable unit."""
+    label, unit, components = QUANTITIES[name]
+    y = np.asarray(_series(result, name), dtype=float)[k]
+    scale, unit = display_unit(unit, max(_magnitude(y), _resolution(result, name)))
+    shown = np.atleast_1d(y / scale)
+    shown = np.where(np.abs(shown) < 1e-9 * max(np.max(np.abs(shown)), 1e-300), 0.0, shown) + 0.0
+    numbers = ", ".join(f"{v:.4g}" for v in shown)
+    if components:
+        numbers = f"({numbers})"
+        label = f"{label} ({', '.join(components)})"
+    return f"{label} = {numbers}" + (f" {unit}" if unit and unit != "-" else "")
+
+
+def _values(result, png, quantities, figure_module, title, dpi):
+    """The one step of a result as text: a line per quantity (a plot of one point would show nothing)."""
+    lines = [value_text(result, name) for name in quantities]
+    figure = figure_module.Figure(figsize=(8.0, 1.3 + 0.42 * len(lines)), dpi=dpi)
+    head = title if title is not None else _default_title(result)
+    figure.text(0.5, 1.0 - 0.35 / figure.get_figheight(), head, ha="center", va="top", fontsize="large")
+    figure.text(0.06, 1.0 - 0.8 / figure.get_figheight(), f"the values at t = {float(result.times[0]):.4g} s "
+                "(one step: no history to plot)", ha="left", va="top", color="0.35")
+    for i, line in enumerate(lines):
+        figure.text(0.06, 1.0 - (1.25 + 0.42 * i) / figure.get_figheight(), line, ha="left", va="top",
+                    fontsize="large")
+    path = os.fspath(png)
+    figure.savefig(path)
+    return path
