@@ -57,6 +57,8 @@ BAD = [
     (dict(cmap="notacmap"), r"cmap must be the name of a matplotlib colour map such as 'viridis'.*got 'notacmap'"),
     (dict(cmap=3), r"cmap must be .*got 3"),
     (dict(kind="slice", origin="middle"), r"origin of the x2 slice must lie in .*got 'middle'"),
+    (dict(clim=(1e9, 0)), r"clim must be \(low, high\) with low < high .*got \(1000000000.0, 0\).*never silently"),
+    (dict(clim=(5.0, 5.0)), r"clim must be \(low, high\) with low < high"),
 ]
 
 

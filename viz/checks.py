@@ -95,6 +95,9 @@ def check_clim(clim, unit):
     if len(used) != 2 or not all(np.isfinite(used)):
         raise ParameterError(f"clim must be two finite numbers (low, high) in {unit or 'the field unit'}, "
                              f"got {clim!r}")
+    if not used[0] < used[1]:
+        raise ParameterError(f"clim must be (low, high) with low < high in {unit or 'the field unit'}, got {clim!r}: "
+                             f"the colour range is used as given, never silently replaced")
     return used
 
 
