@@ -232,6 +232,12 @@ class Cyclic(History):
         object.__setattr__(self, "cycles", check_positive_int(self.cycles, name="cycles"))
         if self.shape not in ("sine", "triangle"):
             raise ParameterError(f"shape must be 'sine' or 'triangle', got {self.shape!r}")
+        # A load or an approach must be >= 0 at every time. The schedule checks the values at its stations, which
+        # need not fall on a trough: the trough is checked here, where it is known.
+        if self.mean - self.amplitude < 0:
+            raise ParameterError(f"Cyclic dips to mean - amplitude = {self.mean!r} - {self.amplitude!r} = "
+                                 f"{self.mean - self.amplitude!r} at its troughs, and a load must be >= 0 at every "
+                                 f"time (an approach too); expected amplitude <= mean")
 
     span = property(lambda self: self.cycles * self.period)
     segment_jumps = property(lambda self: (0.0,))

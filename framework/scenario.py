@@ -20,6 +20,7 @@ problem.
 import dataclasses
 import os
 import pathlib
+import unicodedata
 import warnings
 
 import numpy as np
@@ -421,6 +422,8 @@ def _output(table):
                 raise ParameterError(f"output.pictures[{i}].{key}: expected a name, got {picture[key]!r}")
         name = picture_file(picture)
         where = f"output.pictures[{i}].file"
+        if isinstance(name, str):
+            check_path(name, name=where)
         if not isinstance(name, str) or not name.endswith(".png") or os.path.basename(name) != name \
                 or "\\" in name or name.startswith("."):
             raise ParameterError(f"{where}: expected a .png file name inside the output folder (no folder part), "
@@ -444,11 +447,15 @@ def picture_file(picture):
     return picture.get("file") or f"{picture['field']}_{picture.get('kind', 'map')}.png"
 
 
-def parse(data, source="<scenario>", *, folder=None):
+def parse(data, source="<scenario>", *, folder=None, memory=None):
     """A :class:`Scenario` from the parsed TOML tables ``data``.
 
     ``folder`` is the scenario file's folder, where the files it names are
     found (``material.dma``); tables from no file (None) cannot name any.
+    ``memory`` [bytes], optional: a scenario whose grid, material and
+    inhomogeneities alone need more (:func:`framework.resources.estimate` of
+    one step) is refused before the simulation allocates anything; a
+    simulation that runs out of memory while it is set up is refused too.
     """
     from .simulation import Options, Simulation
     try:
@@ -487,8 +494,14 @@ def parse(data, source="<scenario>", *, folder=None):
             raise ParameterError(f"options: {exc}") from exc
         output = _output(data.get("output", {}))
         bodies = inclusions_from_tables(data["inclusions"]) if "inclusions" in data else None
-        simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
-                                inclusions=bodies, options=options)
+        if memory is not None:
+            _check_memory(grid, material, bodies, options, memory)
+        try:
+            simulation = Simulation(grid=grid, material=material, indenter=indenter, schedule=schedule,
+                                    inclusions=bodies, options=options)
+        except MemoryError as exc:  # numpy's "Unable to allocate 32.8 GiB for an array ..."
+            raise ParameterError(f"the simulation does not fit in this machine's memory: {exc}; expected a run "
+                                 f"that fits: fewer cells or layers, or smaller inhomogeneities") from exc
         total = len(simulation.output_times)
         for key in ("steps", "volume_steps"):
             steps = getattr(output, key)
@@ -505,15 +518,15 @@ def parse(data, source="<scenario>", *, folder=None):
     return Scenario(simulation=simulation, output=output, source=source)
 
 
-def read(path, cells=None):
-    """Read and check a scenario file; ``cells`` replaces the grid's shape by ``cells x cells``.
+def load_tables(path, what="scenario"):
+    """The tables of a TOML file (a scenario or a sweep file), or :class:`ScenarioError` naming the file.
 
     The file is UTF-8 text (a byte-order mark is accepted and dropped).
     """
     if os.path.isdir(path):
-        raise ScenarioError(f"{path}: is a folder, not a scenario file")
+        raise ScenarioError(f"{path}: is a folder, not a {what} file")
     if not os.path.isfile(path):
-        raise ScenarioError(f"{path}: no such scenario file")
+        raise ScenarioError(f"{path}: no such {what} file")
     try:
         with open(path, "rb") as f:
             raw = f.read()
@@ -523,14 +536,42 @@ def read(path, cells=None):
         text = raw.decode("utf-8-sig")  # drops a byte-order mark, which TOML itself refuses
     except UnicodeDecodeError as exc:
         raise ScenarioError(f"{path}: not a UTF-8 text file (byte {raw[exc.start]:#04x} at offset {exc.start}); "
-                            f"a scenario is TOML text") from exc
+                            f"a {what} file is TOML text") from exc
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{path}: not valid TOML: {exc}") from exc
+
+
+def read(path, cells=None, *, memory=None):
+    """Read and check a scenario file; ``cells`` replaces the grid's shape by ``cells x cells``.
+
+    The file is UTF-8 text (a byte-order mark is accepted and dropped).
+    ``memory`` [bytes]: see :func:`parse`.
+    """
+    data = load_tables(path, "scenario")
     if cells is not None and isinstance(data.get("grid"), dict):
         data["grid"]["shape"] = [cells, cells]
-    return parse(data, source=path, folder=os.path.dirname(os.path.abspath(path)))
+    return parse(data, source=path, folder=os.path.dirname(os.path.abspath(path)), memory=memory)
+
+
+def _check_memory(grid, material, bodies, options, memory):
+    """Refuse tables whose grid, material and inhomogeneities alone need more than ``memory`` [bytes]."""
+    from .resources import check_memory, estimate
+    check_memory(estimate(grid, material, inclusions=bodies, margin=options.inclusion_margin), memory)
+
+
+def check_path(value, *, name):
+    """``value``, a file or folder name from a file, unless it holds a control character (a newline, a tab, ESC).
+
+    Such a name is legal on most file systems, but it breaks every line that
+    prints it and hides in listings; it is always a mistake or a trap.
+    """
+    for position, character in enumerate(value):
+        if unicodedata.category(character) == "Cc":
+            raise ParameterError(f"{name}: {value!r} holds the control character {character!r} at position "
+                                 f"{position}; expected a file name of printable characters")
+    return value
 
 
 def demo_path():

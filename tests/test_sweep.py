@@ -18,7 +18,8 @@ from framework.scenario import ScenarioError
 
 distributed = pytest.importorskip("distributed", reason="sweeps need the cluster extra: pip install "
                                                         "'viscocontact[cluster]'")
-sw = importlib.import_module("framework.sweep")  # the module, also once fw.sweep is the function
+sw = importlib.import_module("framework.sweep")  # the package, also once fw.sweep is the function
+cluster = importlib.import_module("framework.sweep.cluster")  # where sweep() looks up _connect
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLE = os.path.join(ROOT, "examples", "sweep_sphere.toml")
@@ -169,7 +170,7 @@ def test_a_swept_load_and_the_load_reached_are_two_columns(client, tmp_path):
 
 def test_the_folder_is_checked_before_any_point_runs(tmp_path, unwritable_folder, monkeypatch, capsys):
     """A folder that cannot take the files fails at once, not after every point was computed."""
-    monkeypatch.setattr(sw, "_connect", no_cluster)
+    monkeypatch.setattr(cluster, "_connect", no_cluster)
     (tmp_path / "a file").write_text("")
     (tmp_path / "table" / "sweep.csv").mkdir(parents=True)
     for folder, message in [
@@ -198,20 +199,35 @@ def test_leftovers_of_killed_writes_are_removed_at_the_next_sweep(tmp_path, monk
     kept = [".notes.partial.h5", "point_0000.partial.h5", "sweep.csv.tmpx"]
     for leftover in leftovers + kept:
         (tmp_path / leftover).write_bytes(b"half a file")
-    monkeypatch.setattr(sw, "_connect", no_cluster)  # the one point is skipped
+    monkeypatch.setattr(cluster, "_connect", no_cluster)  # the one point is skipped
     rows = sw.sweep(builder, [point], folder=tmp_path)
     assert [row["status"] for row in rows] == ["skipped"]
     assert sorted(os.listdir(tmp_path)) == sorted([name, "sweep.csv"] + kept)
 
 
-def test_a_damaged_point_file_is_run_again(client, tmp_path, flip_byte):
+def test_a_damaged_point_file_is_run_again_and_said_so(client, tmp_path, flip_byte, capsys):
+    """A flipped bit and a truncated file: each point runs again, its row says its file was damaged."""
     builder = sw.ScenarioBuilder(BASE)
     first = sw.sweep(builder, PARAMETERS, client=client, folder=tmp_path)
     flip_byte(first[2]["file"], "series/approach")
-    again = sw.sweep(builder, PARAMETERS, client=client, folder=tmp_path)
-    assert [row["status"] for row in again] == ["skipped", "skipped", "done", "skipped"]
+    with open(first[3]["file"], "r+b") as f:
+        f.truncate(os.path.getsize(first[3]["file"]) // 2)
+    again = sw.sweep(builder, PARAMETERS, client=client, folder=tmp_path, progress=True)
+    assert [row["status"] for row in again] == ["skipped", "skipped", "recomputed", "recomputed"]
+    assert [row["error"] for row in again[:2]] == ["", ""]
+    for row in again[2:]:
+        assert row["error"].startswith("damaged: ") and "\n" not in row["error"], row["error"]
+        assert row["file"] and os.path.basename(row["file"]) in row["error"]  # the reason names the file
     assert again[2]["final.approach"] == first[2]["final.approach"]
     assert fw.load_result(again[2]["file"]).approach[-1] == first[2]["final.approach"]
+    out = capsys.readouterr().out
+    assert out.count(": recomputed (damaged: ") == 2, out
+    with open(tmp_path / "sweep.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert [line["status"] for line in table] == ["skipped", "skipped", "recomputed", "recomputed"]
+    assert table[3]["error"] == again[3]["error"]
+    third = sw.sweep(builder, PARAMETERS, client=client, folder=tmp_path)  # repaired: all read back now
+    assert [row["status"] for row in third] == ["skipped"] * 4
 
 
 def test_a_killed_point_leaves_no_half_file(tmp_path, monkeypatch):
