@@ -14,6 +14,11 @@ class ParameterError(FrameworkError, ValueError):
     """A parameter has a value outside its admissible range or of the wrong kind."""
 
 
+class FileError(ParameterError):
+    """A file cannot be read as what it should be: missing, of another kind, damaged, or refused (it takes data
+    from other files). The message names the file and what is wrong with it, on one line."""
+
+
 class ShapeError(FrameworkError, ValueError):
     """An array does not have the shape the operation needs."""
 
@@ -49,3 +54,7 @@ class CoverageWarning(FrameworkWarning):
 
 class DataWarning(FrameworkWarning):
     """Points of measured data were dropped (unusable values, repeated frequencies): the warning lists each."""
+
+
+class UncheckedFileWarning(FrameworkWarning):
+    """A file was read without checksums, as its format predates them: damage to it would go unnoticed."""

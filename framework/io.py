@@ -1,34 +1,54 @@
 """Results on disk: HDF5 files that hold everything, and the checkpoints of long runs.
 
-Layout, ``format = 3`` (the file attribute ``format``, an integer raised at
+Layout, ``format = 4`` (the file attribute ``format``, an integer raised at
 every change of layout): file attributes ``framework_version``, ``format``,
-``configuration`` (JSON of :meth:`Result.configuration`) and ``checksum``
-(CRC-32 of the UTF-8 text ``framework_version + "\\n" + configuration``);
-group ``series`` (one dataset per step series: ``index``, ``time``, ``load``,
-``approach``, ``iterations``, ``residual``, ``success``, ``tilt``); group
-``fields`` (``pressure``, ``displacement``, ``gap``, each ``(steps, n1, n2)``,
-one gzip chunk per step); for a run with inhomogeneities also ``series/couplings``
-and ``fields/eigenstrain``, ``fields/inclusion_stress`` (each ``(steps, m1, m2,
-m3, 6)`` on the inhomogeneities' box, see :class:`~framework.result.StepRecord`)
-with the inhomogeneities in the configuration (key ``inclusions``); and, in a
+``configuration`` (JSON of :meth:`Result.configuration`), ``manifest`` (JSON:
+the file's structure, see :mod:`framework.file_layout`) and ``checksum``
+(CRC-32 of the UTF-8 text ``framework_version + "\\n" + configuration + "\\n" +
+manifest``); group ``series`` (one dataset per step series: ``index``, ``time``,
+``load``, ``approach``, ``iterations``, ``residual``, ``success``, ``tilt``);
+group ``fields`` (``pressure``, ``displacement``, ``gap``, each ``(steps, n1,
+n2)``, one gzip chunk per step); for a run with inhomogeneities also
+``series/couplings``, ``series/inclusion_start`` and ``fields/eigenstrain``,
+``fields/inclusion_stress`` (each ``(steps, m1, m2, m3, 6)`` on the
+inhomogeneities' box, see :class:`~framework.result.StepRecord`) with the
+inhomogeneities in the configuration (key ``inclusions``); and, in a
 checkpoint, group ``state`` (the time stepper's history and the next station,
-and the last eigenstrains; its attribute ``keys`` lists them).
+and the last eigenstrains). The manifest lists those optional datasets.
 
-Every dataset is chunked and carries HDF5's Fletcher-32 checksum filter,
-which HDF5 verifies at every read: a flipped byte in stored numbers, a
-damaged gzip chunk, a truncated file or a missing dataset or attribute
-raises :class:`ParameterError` naming the file (and the dataset) instead of
-giving wrong numbers. A scalar (a stepper's time, the next station) is stored
-as a one-element dataset with the attribute ``scalar = 1``, as chunked
-datasets need a dimension.
+Nothing is read unchecked. The manifest (names, shapes, dtypes, chunks,
+filters and attributes of every group and dataset) is compared with the
+structure found, so a flipped bit in a name or a dimension is found before any
+data are read; every dataset is chunked and carries HDF5's Fletcher-32
+checksum filter, which HDF5 verifies at every read; and the file is written
+with HDF5's 1.10 file format, whose metadata blocks (superblock, object
+headers, B-trees, heaps) carry HDF5's own checksums. The shapes must agree
+with the configuration's grid. A file that takes data from elsewhere (links,
+external storage, virtual datasets, filters that load plugins) is refused.
+Every failure raises :class:`~framework.errors.FileError` (a
+:class:`ParameterError`) naming the file and what is wrong, on one line. A
+scalar (a stepper's time, the next station) is stored as a one-element dataset
+with the attribute ``scalar = 1``, as chunked datasets need a dimension.
 
-Format 2 is format 3 without the inhomogeneities' datasets (they were
-added with format 3, so that an older framework refuses a file whose
-inhomogeneities it would drop); it is read as such.
-Format 1 (files written before the checksums: the same groups and names,
-contiguous datasets without the filter, scalars stored as such, no
-``checksum`` attribute) is still read, without the checks it has no data for.
-A format above 3 was written by a newer framework and is refused.
+Older formats are read, with every check their files have data for:
+
+- format 3 is format 4 without the manifest (its state group lists its
+  datasets in the attribute ``keys``; ``series/inclusion_start`` may be
+  absent); format 2 is format 3 without the inhomogeneities' datasets (added
+  with format 3, so that an older framework refuses a file whose
+  inhomogeneities it would drop). Their checksum covers ``framework_version +
+  "\\n" + configuration``, their structure is checked against the names,
+  attributes, shapes and dtypes the format allows.
+- format 1 (files written before the checksums: the same groups and names,
+  datasets without the filter, scalars stored as such, no ``checksum``
+  attribute) is read with an :class:`~framework.errors.UncheckedFileWarning`:
+  its checksums are missing by design. A file claiming format 1 that holds
+  anything a later format writes (a ``checksum`` or ``manifest`` attribute, a
+  Fletcher-32 filter, the attributes ``scalar`` or ``keys``, inhomogeneities)
+  is refused: its format attribute is damaged or forged, and reading it would
+  turn its checks off.
+
+A format above 4 was written by a newer framework and is refused.
 
 Arrays are stored as they are in memory: a round trip is exact to the bit.
 Files are written under the temporary name ``{path}.tmp{pid}`` and renamed,
@@ -41,19 +61,23 @@ import json
 import os
 import re
 import tempfile
+import warnings
 import zlib
 
 import numpy as np
 
-from .errors import FrameworkError, ParameterError
+from . import file_layout
+from .errors import FileError, FrameworkError, ParameterError, UncheckedFileWarning
+from .file_layout import FIELDS, INCLUSION_FIELDS, INCLUSION_SERIES, SERIES  # noqa: F401 (the layout's names)
 
-FORMAT = 3
-READABLE = (1, 2, 3)
-SERIES = ("index", "time", "load", "approach", "iterations", "residual", "success", "tilt")
-FIELDS = ("pressure", "displacement", "gap")
-#: Written only for a run with inhomogeneities (all its records carry them).
-INCLUSION_SERIES = ("couplings", "inclusion_start")
-INCLUSION_FIELDS = ("eigenstrain", "inclusion_stress")
+FORMAT = 4
+READABLE = (1, 2, 3, 4)
+#: HDF5's file format written (lowest, highest): 1.10's, whose metadata blocks carry checksums that HDF5
+#: verifies when it reads them (the 1.0 format's have none); HDF5 1.10 (2018) and later read it.
+LIBVER = ("v110", "v110")
+#: The exceptions h5py, NumPy and JSON raise on damaged metadata (a wrong type, size or text where a file's
+#: own data should be): each becomes a one-line FileError naming the file.
+DAMAGE = (OSError, KeyError, RuntimeError, ValueError, TypeError, IndexError, OverflowError, MemoryError)
 
 
 def _h5py():
@@ -65,8 +89,9 @@ def _h5py():
 
 
 def _reason(exc):
-    """An OS or HDF5 error on one line, without the errno prefix."""
-    return " ".join(str(getattr(exc, "strerror", None) or exc).split())
+    """An OS or HDF5 error on one line, without the errno prefix (undecodable bytes escaped: it can be printed)."""
+    text = " ".join(str(getattr(exc, "strerror", None) or exc).split())
+    return text.encode("utf-8", "backslashreplace").decode("utf-8")
 
 
 def _path(path, *, name):
@@ -158,8 +183,9 @@ def temporary(path):
     return f"{path}.tmp{os.getpid()}"
 
 
-def _checksum(version, configuration):
-    return zlib.crc32(f"{version}\n{configuration}".encode())
+def _checksum(*texts):
+    """CRC-32 of the UTF-8 texts joined by newlines (text read from damaged bytes: those bytes)."""
+    return zlib.crc32("\n".join(texts).encode("utf-8", "surrogateescape"))
 
 
 def _dataset(group, name, data, **options):
@@ -184,11 +210,10 @@ def save(result, path, state=None, *, name="path"):
     records = result.records
     configuration = json.dumps(result.configuration())
     try:
-        with h5py.File(writing, "w") as f:
+        with h5py.File(writing, "w", libver=LIBVER) as f:
             f.attrs["format"] = FORMAT
             f.attrs["framework_version"] = result.version
             f.attrs["configuration"] = configuration
-            f.attrs["checksum"] = _checksum(result.version, configuration)
             series = f.create_group("series")
             for key in SERIES:
                 values = [getattr(r, key) for r in records]
@@ -209,9 +234,11 @@ def save(result, path, state=None, *, name="path"):
                              chunks=(1,) + data.shape[1:])
             if state is not None:
                 group = f.create_group("state")
-                group.attrs["keys"] = list(state)
                 for key, value in state.items():
                     _dataset(group, key, value)
+            manifest = file_layout.manifest(file_layout.structure(f, refuse=FileError))
+            f.attrs["manifest"] = manifest
+            f.attrs["checksum"] = _checksum(result.version, configuration, manifest)
         os.replace(writing, path)
     except BaseException:
         with contextlib.suppress(OSError):
@@ -220,27 +247,47 @@ def save(result, path, state=None, *, name="path"):
 
 
 class _Reader:
-    """Reads the parts of an open result file; every failure is a one-line ParameterError naming the file."""
+    """Reads the parts of an open result file; every failure is a one-line FileError naming the file."""
 
     def __init__(self, f, path, name):
         self.file, self.path, self.name = f, path, name
         self.format = None
 
     def fail(self, what):
-        return ParameterError(f"{self.name}: {self.path!r} is damaged: {what}")
+        return FileError(f"{self.name}: {self.path!r} is damaged: {what}")
 
-    def attribute(self, key, group="/"):
-        if key not in self.file[group].attrs:
-            raise self.fail(f"attribute {key!r} of {group!r} is missing")
-        return self.file[group].attrs[key]
+    def refuse(self, what):
+        return FileError(f"{self.name}: {self.path!r} is refused: {what}; a result file holds all its data itself, "
+                         f"so links, external storage and plugin filters are not followed")
+
+    def forged(self, what):
+        return FileError(f"{self.name}: {self.path!r} is damaged or forged: it claims format 1 (written before "
+                         f"checksums) but has {what}, which only later formats write; it is not read unchecked")
+
+    def text(self, key):
+        """A text attribute of the root as ``str`` (undecodable bytes kept as surrogates for the checksum)."""
+        if key not in self.file.attrs:
+            raise self.fail(f"attribute {key!r} of '/' is missing")
+        value = self.file.attrs[key]
+        if isinstance(value, bytes):
+            value = value.decode("utf-8", "surrogateescape")
+        if not isinstance(value, str):
+            raise self.fail(f"attribute {key!r} of '/' is not text, got a {type(value).__name__}")
+        return value
+
+    def check_format(self):
+        value = self.file.attrs.get("format")
+        if isinstance(value, np.ndarray) and value.shape in ((), (1,)):
+            value = value.reshape(-1)[0]
+        if not isinstance(value, (int, np.integer)) or isinstance(value, (bool, np.bool_)) or value not in READABLE:
+            newer = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and value > FORMAT
+            raise FileError(f"{self.name}: {self.path!r} is not a result file of format "
+                            f"{', '.join(map(str, READABLE[:-1]))} or {READABLE[-1]}"
+                            + (f" (format {value}: written by a newer framework)" if newer else ""))
+        self.format = int(value)
 
     def dataset(self, key):
-        h5py = _h5py()
-        dataset = self.file.get(key)
-        if not isinstance(dataset, h5py.Dataset):
-            raise self.fail(f"dataset {key!r} is missing")
-        if self.format >= 2 and not dataset.fletcher32:
-            raise self.fail(f"dataset {key!r} has no checksum (every dataset of format {self.format} has one)")
+        dataset = self.file[key]
         try:
             value = dataset[()]
         except OSError as exc:
@@ -248,80 +295,146 @@ class _Reader:
                 from exc
         return value[0] if dataset.attrs.get("scalar") == 1 and value.shape == (1,) else value
 
+    def contents(self):
+        """``(configuration, series, fields, state)`` with every check of the file's format passed."""
+        f = self.file
+        self.check_format()
+        file_layout.check_root(self.format, set(f.attrs), self.fail, self.forged)
+        version, text = self.text("framework_version"), self.text("configuration")
+        manifest = self.text("manifest") if self.format >= 4 else None
+        if self.format >= 2:
+            stored = f.attrs["checksum"]
+            if _checksum(version, text, *([manifest] if manifest is not None else [])) != stored:
+                raise self.fail("the attributes 'framework_version', 'configuration'"
+                                + (" and 'manifest'" if manifest is not None else "") + " fail their checksum")
+        configuration = json.loads(text)
+        if not isinstance(configuration, dict):
+            raise self.fail(f"its configuration is not a JSON object, got a {type(configuration).__name__}")
+        objects = file_layout.structure(f, self.refuse)
+        if manifest is not None:    # first: it names what is missing and what is not the writer's
+            file_layout.check_manifest(objects, manifest, self.fail)
+        state_keys = file_layout.check_layout(objects, self.format, self.fail, self.forged)
+        file_layout.check_shapes(objects, configuration, self.fail)
+        if self.format == 1:
+            warnings.warn(UncheckedFileWarning(
+                f"{self.name}: {self.path!r} is of format 1, written before result files had checksums: its "
+                f"checksums are missing by design, so it is read without any check of its bytes and damage to it "
+                f"would go unnoticed (save it again to add them)"), stacklevel=4)
+        series = {key: self.dataset(path) for path in objects if path.startswith("series/")
+                  for key in [path[len("series/"):]]}
+        fields = {key: self.dataset(path) for path in objects if path.startswith("fields/")
+                  for key in [path[len("fields/"):]]}
+        state = None if state_keys is None else {key: self.dataset(f"state/{key}") for key in state_keys}
+        return configuration, series, fields, state
+
 
 def read(path, *, name="path"):
     """``(configuration dict, records, state or None)`` from a file written by :func:`save`.
 
     ``name`` is the parameter named in messages (``"resume"`` for a
-    checkpoint). A missing, foreign, damaged or truncated file raises
-    :class:`ParameterError` naming the file (and the dataset).
+    checkpoint). A missing, foreign, damaged, truncated or refused file raises
+    :class:`~framework.errors.FileError` naming the file (and the dataset).
+    A file of format 1 gives an :class:`~framework.errors.UncheckedFileWarning`.
     """
-    from .result import StepRecord
     h5py = _h5py()
     path = _path(path, name=name)
     if not os.path.isfile(path):
-        raise ParameterError(f"{name}: no result file at {path!r}")
+        raise FileError(f"{name}: no result file at {path!r}")
     try:
         f = h5py.File(path, "r")
     except OSError as exc:
-        raise ParameterError(f"{name}: {path!r} is not a readable HDF5 file: another kind of file, or damaged "
-                             f"or truncated ({_reason(exc)})") from exc
-    with f:
-        reader = _Reader(f, path, name)
-        try:
-            reader.format = f.attrs.get("format")
-            if reader.format not in READABLE:
-                newer = isinstance(reader.format, (int, np.integer)) and reader.format > FORMAT
-                raise ParameterError(f"{name}: {path!r} is not a result file of format "
-                                     f"{', '.join(map(str, READABLE[:-1]))} or {READABLE[-1]}"
-                                     + (f" (format {reader.format}: written by a newer framework)" if newer else ""))
-            text = reader.attribute("configuration")
-            if reader.format >= 2 and _checksum(reader.attribute("framework_version"), text) \
-                    != reader.attribute("checksum"):
-                raise reader.fail("the attributes 'framework_version' and 'configuration' fail their checksum")
-            configuration = json.loads(text)
-            series = {key: reader.dataset(f"series/{key}") for key in SERIES}
-            fields = {key: reader.dataset(f"fields/{key}") for key in FIELDS}
-            if reader.format >= 3 and "fields/eigenstrain" in f:  # a run with inhomogeneities
-                series.update({key: reader.dataset(f"series/{key}") for key in INCLUSION_SERIES
-                               if f"series/{key}" in f})
-                fields.update({key: reader.dataset(f"fields/{key}") for key in INCLUSION_FIELDS})
-            state = None
-            if "state" in f:
-                keys = reader.attribute("keys", "state") if reader.format >= 2 else list(f["state"])
-                state = {key: reader.dataset(f"state/{key}") for key in keys}
-        except (OSError, KeyError, RuntimeError, json.JSONDecodeError) as exc:  # HDF5 metadata or JSON
-            raise reader.fail(_reason(exc)) from exc
-        steps = len(series["time"])
-        for key, value in list(series.items()) + list(fields.items()):
-            if len(value) != steps:
-                raise reader.fail(f"{key!r} holds {len(value)} steps, 'series/time' {steps}")
-    records = [StepRecord(index=int(series["index"][k]), time=series["time"][k], load=series["load"][k],
-                          approach=series["approach"][k], pressure=fields["pressure"][k],
-                          displacement=fields["displacement"][k], gap=fields["gap"][k],
-                          iterations=int(series["iterations"][k]), residual=series["residual"][k],
-                          success=bool(series["success"][k]), tilt=tuple(series["tilt"][k]),
-                          **({} if "eigenstrain" not in fields else dict(
-                              eigenstrain=fields["eigenstrain"][k], inclusion_stress=fields["inclusion_stress"][k],
-                              couplings=int(series["couplings"][k]),
-                              inclusion_start=(tuple(int(v) for v in series["inclusion_start"][k])
-                                               if "inclusion_start" in series else None))))
-               for k in range(steps)]
-    return configuration, records, state
+        raise FileError(f"{name}: {path!r} is not a readable HDF5 file: another kind of file, or damaged "
+                        f"or truncated ({_reason(exc)})") from exc
+    reader = _Reader(f, path, name)
+    try:
+        with f:
+            configuration, series, fields, state = reader.contents()
+        return configuration, _records(series, fields), state
+    except FrameworkError:
+        raise
+    except DAMAGE as exc:   # HDF5 metadata, JSON, or values of the wrong type
+        raise reader.fail(f"{type(exc).__name__}: {_reason(exc)}") from exc
+
+
+def _records(series, fields):
+    """The step records of the arrays read (their shapes checked)."""
+    from .result import StepRecord
+    inclusions = "eigenstrain" in fields
+    return [StepRecord(index=int(series["index"][k]), time=series["time"][k], load=series["load"][k],
+                       approach=series["approach"][k], pressure=fields["pressure"][k],
+                       displacement=fields["displacement"][k], gap=fields["gap"][k],
+                       iterations=int(series["iterations"][k]), residual=series["residual"][k],
+                       success=bool(series["success"][k]), tilt=tuple(series["tilt"][k]),
+                       **({} if not inclusions else dict(
+                           eigenstrain=fields["eigenstrain"][k], inclusion_stress=fields["inclusion_stress"][k],
+                           couplings=int(series["couplings"][k]),
+                           inclusion_start=(tuple(int(v) for v in series["inclusion_start"][k])
+                                            if "inclusion_start" in series else None))))
+            for k in range(len(series["time"]))]
+
+
+def check_records(records, grid, inclusions, options, *, path, name):
+    """The inhomogeneities' fields of ``records`` against the box the configuration places them in.
+
+    The box's shape follows from the grid, the inhomogeneities and ``options.inclusion_margin``;
+    each record's box must lie on the grid. Raises :class:`~framework.errors.FileError` naming
+    ``path`` (read as parameter ``name``).
+    """
+    def fail(what):
+        return FileError(f"{name}: {path!r} is damaged: {what}")
+    holding = [record.eigenstrain is not None for record in records]
+    if not records or not any(holding):
+        if records and inclusions:
+            raise fail("its configuration has inhomogeneities, but it holds no eigenstrains")
+        return
+    if not inclusions or not all(holding):
+        raise fail("it holds eigenstrains, but its configuration has no inhomogeneities")
+    from .inclusions.field import layout
+    start, shape, _ = layout(grid, inclusions, options.inclusion_margin)
+    limits = (*grid.shape, grid.layers)
+    for record in records:
+        if record.eigenstrain.shape != (*shape, 6) or record.inclusion_stress.shape != (*shape, 6):
+            raise fail(f"step {record.index}: its eigenstrains have shape {record.eigenstrain.shape}; the "
+                       f"configuration's box around the inhomogeneities needs {(*shape, 6)}")
+        first = start if record.inclusion_start is None else record.inclusion_start
+        if any(s < 0 or s + m > n for s, m, n in zip(first, shape, limits)):
+            raise fail(f"step {record.index}: the inhomogeneities' box of {shape} cuboids from cuboid "
+                       f"{tuple(first)} leaves the grid of {limits} cuboids")
+
+
+def check_state(state, *, path, name):
+    """A checkpoint's stepper ``state`` (None: a saved result) has the station and step index to continue from."""
+    if state is None:
+        return
+    for key in ("station", "index"):
+        value = state.get(key)
+        if not (isinstance(value, np.integer) and value >= 0):
+            raise FileError(f"{name}: {path!r} is damaged: its state has no {key} (an integer >= 0) to continue "
+                            f"from, got {value!r}")
 
 
 def load_result(path):
-    """The :class:`Result` saved in ``path`` (with its configuration rebuilt)."""
+    """The :class:`Result` saved in ``path`` (with its configuration rebuilt).
+
+    A missing, damaged or refused file raises :class:`~framework.errors.FileError` naming it.
+    """
     from .config import build
     from .result import Result
     from .simulation import Options
     configuration, records, _ = read(path)
+    path = os.fspath(path)
     missing = [key for key in ("grid", "material", "indenter", "schedule") if key not in configuration]
     if missing:
-        raise ParameterError(f"path: {os.fspath(path)!r} is damaged: its configuration has no {missing}")
-    parts = {key: build(configuration[key], name=key) for key in ("grid", "material", "indenter", "schedule")}
-    options = build(configuration["options"], name="options") if configuration.get("options") else Options()
-    inclusions = build(configuration["inclusions"], name="inclusions") if configuration.get("inclusions") else None
+        raise FileError(f"path: {path!r} is damaged: its configuration has no {missing}")
+    try:
+        parts = {key: build(configuration[key], name=key) for key in ("grid", "material", "indenter", "schedule")}
+        options = build(configuration["options"], name="options") if configuration.get("options") else Options()
+        inclusions = build(configuration["inclusions"], name="inclusions") if configuration.get("inclusions") \
+            else None
+    except (FrameworkError, TypeError, ValueError, KeyError, AttributeError) as exc:
+        raise FileError(f"path: {path!r} is damaged: its configuration does not describe a run "
+                        f"({type(exc).__name__}: {_reason(exc)})") from exc
+    check_records(records, parts["grid"], inclusions, options, path=path, name="path")
     result = Result(parts["grid"], parts["material"], parts["indenter"], parts["schedule"], options,
                     inclusions=inclusions)
     result.version = configuration.get("framework_version", result.version)

@@ -374,9 +374,10 @@ class Result:
     def save(self, path):
         """Write everything to the HDF5 file ``path`` (read back with :func:`framework.load_result`).
 
-        Every dataset carries a checksum that reading verifies (layout in
-        :mod:`framework.io`). ``path`` must not be a folder, and its folder must
-        exist and be writable: else :class:`ParameterError` naming ``path``.
+        Every dataset and the file's structure carry checksums that reading
+        verifies (layout in :mod:`framework.io`). ``path`` must not be a folder,
+        and its folder must exist and be writable: else :class:`ParameterError`
+        naming ``path``.
         """
         from .io import save
         save(self, path)

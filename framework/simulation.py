@@ -162,6 +162,9 @@ def _rolling_stations(schedule, grid, refine=True):
     """The stations of a rolling run: the rest indentation, then one per cell of motion (transient),
     or one per load (steady, at the times 0, 1, 2 ..., like the default times of a list of loads)."""
     if schedule.steady:
+        if len(schedule.loads) > MAX_STATIONS:
+            raise ParameterError(f"load: a steady run solves one steady state per load, got {len(schedule.loads)} "
+                                 f"loads, more than {MAX_STATIONS}: sample the loads more coarsely")
         return [Station(float(k), value, True) for k, value in enumerate(schedule.loads)]
     axis, speed = schedule.axis, schedule.speed
     cell, step = grid.spacing[axis], grid.spacing[axis] / speed        # [m], [s]
@@ -232,7 +235,8 @@ class Simulation:
         check alone: fewer than 3 cells along a non-periodic axis, a HeightMap
         of another shape than the grid, an offset the body cannot carry, a
         sudden change of load on a Kelvin-Voigt solid, more than
-        :data:`MAX_STATIONS` time steps.
+        :data:`MAX_STATIONS` time steps, inclusions in an incompressible
+        matrix (``poisson = 0.5``) or too soft for the equivalent-inclusion method.
     """
 
     def __init__(self, grid, material, indenter, schedule, inclusions=None, options=None):
@@ -296,6 +300,10 @@ class Simulation:
         offset = getattr(schedule, "offset", None)
         if offset is not None:
             _check_offset(offset, self.indenter.reach(grid), grid.coordinates())
+        if isinstance(schedule, schedules.Rolling) and schedule.steady and self.options.history != "recursive":
+            raise ParameterError(f"options.history = {self.options.history!r} has no meaning for a steady run "
+                                 f"(steady=True): the steady state is solved in the body's frame, with no history to "
+                                 f"carry; leave the option out, or roll a transient run")
         memory = len(series.terms) > 0 or series.flow > 0
         rolling = isinstance(schedule, schedules.Rolling)
         stations = _rolling_stations(schedule, grid, memory) if rolling else _stations(schedule, refine=memory)
@@ -524,6 +532,8 @@ class Simulation:
         if differing:
             raise ParameterError(f"resume: the checkpoint {path!r} was written for another configuration "
                                  f"({', '.join(differing)} differ); run it with its own scenario or start afresh")
+        io.check_records(records, self.grid, self.inclusions, self.options, path=path, name="resume")
+        io.check_state(state, path=path, name="resume")
         outputs = len(self.output_times)
         if state is None and len(records) < outputs:
             raise ParameterError(f"resume: {path!r} holds {len(records)} of the {outputs} steps and no stepper "
