@@ -15,13 +15,13 @@ from .errors import ParameterError
 
 
 def _registry():
-    from . import grid, inclusions, indenters, loads, materials, schedules, simulation, solver
+    from . import grid, inclusions, indenters, loads, materials, options, schedules, solver
     classes = [grid.Grid, materials.Elastic, materials.Viscoelastic, materials.Maxwell, materials.KelvinVoigt,
                materials.AnisotropicElastic, materials.WLF, materials.Arrhenius,
                materials.WLFArrhenius, inclusions.Ellipsoid, inclusions.InclusionSet,
                indenters.Sphere, indenters.FlatPunch, indenters.RoundedFlatPunch, indenters.Cylinder,
                indenters.HeightMap, loads.Step, loads.Ramp, loads.Hold, loads.Table, loads.Cyclic, loads.Sequence,
-               schedules.Static, schedules.Eccentric, schedules.Rolling, simulation.Options, solver.SolverOptions]
+               schedules.Static, schedules.Eccentric, schedules.Rolling, options.Options, solver.SolverOptions]
     table = {cls.__name__: cls for cls in classes}
     table["StandardLinearSolid"] = materials.StandardLinearSolid
     return table

@@ -420,7 +420,7 @@ def load_result(path):
     """
     from .config import build
     from .result import Result
-    from .simulation import Options
+    from .options import Options
     configuration, records, _ = read(path)
     path = os.fspath(path)
     missing = [key for key in ("grid", "material", "indenter", "schedule") if key not in configuration]

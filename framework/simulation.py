@@ -10,18 +10,19 @@ of a rolling body has its history folded into a non-symmetric operator
 (:mod:`framework.operators.rolling`) and its own solver
 (:func:`framework.steady_solver.solve_steady`), with no history to carry.
 
-The stations of a run (:class:`Station`) are its output times, every jump
-and kink of the load history, the finer steps a periodic history needs and,
-for a transient rolling run, one step per cell of motion.
+The stations of a run (:mod:`framework.stations`) are its output times, every
+jump and kink of the load history, the finer steps a periodic history needs
+and, for a transient rolling run, one step per cell of motion. Its options are
+:class:`framework.options.Options`; a warm-started solve on an open grid runs
+on a box around the contact (:mod:`framework.boxed_solve`).
 """
-import math
 import sys
-from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import loads, schedules
-from ._validation import check_bool, check_positive_int, check_quantity, check_real
+from . import boxed_solve, schedules
+from . import stations as stations_module
+from ._validation import check_bool, check_positive_int
 from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
 from .history import HereditarySum, PronyRecursion, SteadyMemory
@@ -29,183 +30,16 @@ from .indenters import Indenter
 from .operators.rolling import SteadyRollingCompliance, check_steady
 from .operators.stiffness import SurfaceStiffness
 from .operators.surface import SurfaceCompliance
+from .options import Options
 from .result import Result, StepRecord
+from .stations import MAX_STATIONS, Station  # noqa: F401 (MAX_STATIONS: named in the docstrings, kept importable)
 from .solver import SolverOptions, solve_normal
 from .steady_solver import solve_steady
 
 
-@dataclass(frozen=True)
-class Options:
-    """Run options.
-
-    Parameters
-    ----------
-    solver : SolverOptions
-        Tolerances of the contact solver.
-    check_edges : bool
-        Raise :class:`GridTooSmallError` when the contact reaches the edge of a
-        non-periodic grid (the DC-FFT half-space ends there).
-    history : str
-        ``"recursive"`` (Prony recursions, O(1) per step) or ``"hereditary"``
-        (the full hereditary sum, O(n) per step: a reference for tests).
-    inclusion_margin : float or None
-        Distance [m] around the inhomogeneities where the stress includes their
-        eigenstrains' fields (the eigenstrain operators' box); None: half the
-        largest semi-axis.
-    coupling_tolerance : float
-        Relative change of the inhomogeneities' surface displacement at which a
-        step's contact and eigenstrains count as converged together.
-    """
-
-    solver: SolverOptions = field(default_factory=SolverOptions)
-    check_edges: bool = True
-    history: str = "recursive"
-    inclusion_margin: float = None
-    coupling_tolerance: float = 1e-8
-
-    def __post_init__(self):
-        if not isinstance(self.solver, SolverOptions):
-            raise ParameterError(f"solver must be a SolverOptions, got {self.solver!r}")
-        object.__setattr__(self, "check_edges", check_bool(self.check_edges, name="check_edges"))
-        if self.history not in ("recursive", "hereditary"):
-            raise ParameterError(f"history must be 'recursive' or 'hereditary', got {self.history!r}")
-        if self.inclusion_margin is not None:
-            object.__setattr__(self, "inclusion_margin",
-                               check_quantity(self.inclusion_margin, name="inclusion_margin", unit="m", zero=True))
-        tolerance = check_real(self.coupling_tolerance, name="coupling_tolerance")
-        if not 1e-14 <= tolerance < 1:
-            raise ParameterError(f"coupling_tolerance must lie in [1e-14, 1) (a relative change), got {tolerance!r}")
-        object.__setattr__(self, "coupling_tolerance", tolerance)
-
-    @classmethod
-    def from_value(cls, value):
-        """Options from ``None``, an ``Options`` or a dict of solver/run keys."""
-        if value is None:
-            return cls()
-        if isinstance(value, cls):
-            return value
-        if not isinstance(value, dict):
-            raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
-        solver_keys = set(SolverOptions.__dataclass_fields__)
-        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance"}
-        unknown = set(value) - solver_keys - run_keys
-        if unknown:
-            raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "
-                                 f"{sorted(solver_keys | run_keys)}")
-        solver = replace(SolverOptions(), **{k: v for k, v in value.items() if k in solver_keys})
-        return cls(solver=solver, **{k: v for k, v in value.items() if k in run_keys})
-
-
-#: The most time steps a run may take: beyond it a schedule is a mistake (e.g. a 1 ms period over a year).
-MAX_STATIONS = 1_000_000
-
 #: How many wake lengths ``|V| lambda`` a transient rolling grid must hold behind the contact: the history of
 #: material that leaves the grid is dropped, and what it would still displace decays like ``exp(-d/(V lambda))``.
 WAKE_LENGTHS = 3.0
-
-
-@dataclass(frozen=True)
-class Station:
-    """One step of a run: its time [s], the load [N] or approach [m] it imposes, whether it is recorded,
-    and the whole cells ``(c1, c2)`` the material moved under the body since the previous station."""
-
-    time: float
-    value: float
-    recorded: bool
-    shift: tuple = (0, 0)
-
-
-def _stations(schedule, refine=True):
-    """The stations of an indentation at rest: the output times, the kinks and both sides of every jump.
-
-    With ``refine`` (a material with memory), every gap between them that lies
-    in an interval of the history's ``resolution`` is split into equal steps
-    no longer than its ``max_step`` (unrecorded stations).
-    """
-    history, times = schedule.history, schedule.times
-    last = times[-1]
-    jumps = {float(t) for t in history.jumps if t <= last}
-    kinks = {float(t) for t in history.kinks if 0 < t <= last}
-    outputs = {float(t) for t in times}
-    limits = [(start, min(end, last), step) for start, end, step in history.resolution
-              if start < min(end, last)] if refine else []
-    keys = sorted(outputs | jumps | kinks | {t for start, end, _ in limits for t in (start, end)})
-
-    def pieces(a, b):  # equal steps no longer than the finest max_step of the intervals holding [a, b]
-        step = min((h for start, end, h in limits if start <= a and b <= end), default=None)
-        return 1 if step is None else math.ceil((b - a) / step)
-
-    splits = [pieces(a, b) for a, b in zip(keys, keys[1:])]
-    _check_count(len(keys) + len(jumps) + sum(splits) - len(splits), last)
-    inner = {a + (b - a) * k / n for a, b, n in zip(keys, keys[1:], splits) for k in range(1, n)}
-    every = np.array(sorted(set(keys) | inner))
-    stations = []
-    for t, value in zip(every.tolist(), history(every).tolist()):
-        before = float(history.left(t)) if t in jumps else value
-        # both sides of a jump: a step of zero duration between them (a jump to the same value is none; the
-        # left limit is taken a hair before t, so a steep ramp's left limit differs from its value by rounding)
-        if not math.isclose(before, value, rel_tol=1e-9):
-            stations.append(Station(t, before, False))
-        stations.append(Station(t, value, t in outputs))
-    return stations
-
-
-def _check_count(count, last):
-    if count > MAX_STATIONS:
-        raise ParameterError(
-            f"the schedule needs {count} time steps up to t = {last:g} s (a sine history is followed with "
-            f"{loads.STATIONS_PER_PERIOD} steps per period, rolling with one per cell), more than {MAX_STATIONS}: "
-            f"shorten the times or the distance, or lengthen the period")
-
-
-def _rolling_stations(schedule, grid, refine=True):
-    """The stations of a rolling run: the rest indentation, then one per cell of motion (transient),
-    or one per load (steady, at the times 0, 1, 2 ..., like the default times of a list of loads)."""
-    if schedule.steady:
-        if len(schedule.loads) > MAX_STATIONS:
-            raise ParameterError(f"load: a steady run solves one steady state per load, got {len(schedule.loads)} "
-                                 f"loads, more than {MAX_STATIONS}: sample the loads more coarsely")
-        return [Station(float(k), value, True) for k, value in enumerate(schedule.loads)]
-    axis, speed = schedule.axis, schedule.speed
-    cell, step = grid.spacing[axis], grid.spacing[axis] / speed        # [m], [s]
-    if schedule.times is not None:
-        cells = schedule.times / step
-        whole = np.round(cells)
-        bad = np.abs(cells - whole) > 1e-6 * np.maximum(1.0, whole)
-        if bad.any():
-            t = float(schedule.times[np.argmax(bad)])
-            raise ParameterError(
-                f"times: the body moves one cell ({cell:g} m) every {step:g} s and the material under it by whole "
-                f"cells only; {t:g} s is {t / step:.4g} cells of motion, not a whole number of cells: use multiples "
-                f"of {step:g} s (nearest {round(t / step) * step:g} s)")
-        outputs = {int(k) for k in whole}
-    if schedule.distance is not None:
-        count = int(round(schedule.distance / cell))
-        if count < 1:
-            raise ParameterError(f"distance {schedule.distance:g} m is shorter than one cell ({cell:g} m along the "
-                                 f"motion): the material moves by whole cells; roll at least {cell:g} m")
-        if schedule.times is not None and max(outputs) > count:
-            raise ParameterError(f"times: {float(schedule.times[-1]):g} s lies beyond the end of the motion "
-                                 f"(distance {count * cell:g} m at {speed:g} m/s: {count * step:g} s)")
-    else:
-        count = max(outputs)
-    if schedule.times is None:
-        outputs = set(range(count + 1))
-    stations = _stations(schedule.start, refine) if schedule.start is not None else []
-    begin = schedule.motion_start
-    _check_count(len(stations) + count + 1, begin + count * step)
-    value = float(schedule.history(0.0))
-    if stations and math.isclose(stations[-1].value, value, rel_tol=1e-9):
-        if 0 in outputs and not stations[-1].recorded:   # the start's last station is the rest at the motion's start
-            stations[-1] = replace(stations[-1], recorded=True)
-    else:  # (a start's last station is recorded already: one record per time)
-        stations.append(Station(begin, value, 0 in outputs and not (stations and stations[-1].recorded)))
-    shift = [0, 0]
-    shift[axis] = -int(np.sign(schedule.velocity[axis]))  # the material moves against the body, a cell a step
-    loads_at = schedule.history(np.arange(1, count + 1) * step)
-    stations += [Station(begin + k * step, float(loads_at[k - 1]), k in outputs, tuple(shift))
-                 for k in range(1, count + 1)]
-    return stations
 
 
 class Simulation:
@@ -306,7 +140,7 @@ class Simulation:
                                  f"carry; leave the option out, or roll a transient run")
         memory = len(series.terms) > 0 or series.flow > 0
         rolling = isinstance(schedule, schedules.Rolling)
-        stations = _rolling_stations(schedule, grid, memory) if rolling else _stations(schedule, refine=memory)
+        stations = stations_module.rolling_stations(schedule, grid, memory) if rolling else stations_module.static_stations(schedule, refine=memory)
         self._timeline = stations
         self.output_times = np.array([station.time for station in stations if station.recorded])
         if series.c0 <= 0:
@@ -417,7 +251,7 @@ class Simulation:
                     control = dict(load=station.value if load_control else None,
                                    approach=None if load_control else station.value)
                     if offset is None and not any(grid.periodic):
-                        return _solve_boxed(operator, compliance, base, stiffness=stiffness, options=options.solver,
+                        return boxed_solve.solve_boxed(operator, compliance, base, stiffness=stiffness, options=options.solver,
                                             initial=arguments["initial"], cell_area=grid.cell_area, **control)
                     return solve_normal(
                         lambda p: operator.apply(p, compliance, copy=False), base, offset=offset,
@@ -543,64 +377,6 @@ class Simulation:
         if state is None or int(state["station"]) >= len(self._timeline):
             return None
         return state
-
-
-#: The box a warm-started solve iterates on holds the start's contact grown by this fraction of its extent
-#: (and :data:`BOX_CELLS` cells at least) on every side.
-BOX_MARGIN = 0.25
-BOX_CELLS = 4
-
-
-def _solve_boxed(operator, compliance, base, *, stiffness, options, initial, cell_area, load=None, approach=None):
-    """A contact solve on an open grid that iterates on a box around the cells the contact can reach.
-
-    The box holds the start's contact (the last step's, for a warm start) grown by :data:`BOX_MARGIN`
-    of its extent on every side; the conjugate gradients run on it alone, each product an FFT of twice
-    the box instead of twice the grid (a transient roll over a 512 x 256 grid: 128^2 instead of
-    1024 x 512). The pressure outside the box is zero, which is the solution wherever the gap there
-    stays open: the whole grid's displacement is computed once at the end, and a cell outside the box
-    that interpenetrates (beyond the solver's residual tolerance) sends the solve to the whole grid,
-    started from the box's pressure. Without a start, or when the box would cover most of the grid,
-    the whole grid from the beginning.
-    """
-    def apply(pressure):
-        return operator.apply(pressure, compliance, copy=False)
-
-    def within(field, window):       # a window of the box (the box itself when the window is all of it)
-        return operator.apply_window(field, box if window == (slice(None), slice(None)) else window, compliance,
-                                     copy=False)
-
-    common = dict(window=operator.window, diagonal=compliance * operator.diagonal, precondition=stiffness,
-                  cell_area=cell_area, load=load, approach=approach, options=options)
-    whole = dict(common, apply_window=lambda field, window: operator.apply_window(field, window, compliance,
-                                                                                   copy=False))
-    support = None if initial is None else np.asarray(initial) > 0
-    if support is None or not support.any():
-        return solve_normal(apply, base, initial=initial, **whole)
-    box = []
-    for axis, n in enumerate(base.shape):
-        cells = np.flatnonzero(support.any(axis=1 - axis))
-        grow = max(BOX_CELLS, int(np.ceil(BOX_MARGIN * (cells[-1] - cells[0] + 1))))
-        first, last = cells[0] - grow, cells[-1] + 1 + grow
-        # sides of whole multiples of 32 cells: a run meets few box shapes, each planned once
-        size = min(n, -(-(last - first) // 32) * 32)
-        first = min(max(0, first - (size - (last - first)) // 2), n - size)
-        box.append(slice(first, first + size))
-    box = tuple(box)
-    if (box[0].stop - box[0].start) * (box[1].stop - box[1].start) > 0.5 * base.size:
-        return solve_normal(apply, base, initial=initial, **whole)
-    boxed = solve_normal(lambda p: within(p, box), base[box], initial=np.asarray(initial)[box],
-                         apply_window=within, **common)
-    pressure = np.zeros(base.shape)
-    pressure[box] = boxed.pressure
-    displacement = operator.apply(pressure, compliance)
-    gap = base + displacement - boxed.approach
-    outside = np.ones(base.shape, dtype=bool)
-    outside[box] = False
-    scale = max(np.abs(displacement).max(), np.finfo(float).tiny)
-    if -gap[outside].min(initial=0.0) > options.residual_tolerance * scale:    # the contact left the box
-        return solve_normal(apply, base, initial=pressure, **whole)
-    return replace(boxed, pressure=pressure, displacement=displacement, gap=gap)
 
 
 class _Predictor:

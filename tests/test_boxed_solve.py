@@ -1,9 +1,9 @@
-"""Warm-started contact solves iterate on a box around the cells the contact can reach (simulation._solve_boxed)."""
+"""Warm-started contact solves iterate on a box around the cells the contact can reach (framework.boxed_solve)."""
 import numpy as np
 import pytest
 
 import framework as fw
-from framework import indenters, materials, schedules, simulation
+from framework import boxed_solve, indenters, materials, schedules
 
 SOLID = materials.StandardLinearSolid(e_inf=1e7, e_1=9e7, tau=1.0, poisson=0.5)
 
@@ -13,12 +13,12 @@ def run(schedule, boxed=True, shape=(128, 64)):
     sim = fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=10e-3), schedule=schedule)
     if boxed:
         return sim.run()
-    margin = simulation.BOX_MARGIN
-    simulation.BOX_MARGIN = 1e9                  # a box as large as the grid: the whole grid, as before
+    margin = boxed_solve.BOX_MARGIN
+    boxed_solve.BOX_MARGIN = 1e9                  # a box as large as the grid: the whole grid, as before
     try:
         return sim.run()
     finally:
-        simulation.BOX_MARGIN = margin
+        boxed_solve.BOX_MARGIN = margin
 
 
 def test_a_transient_roll_on_its_box_equals_the_whole_grid():
@@ -37,12 +37,12 @@ def test_a_contact_that_leaves_its_box_is_solved_on_the_whole_grid(monkeypatch):
     """A load 20,000 times the last step's: the contact outgrows the box around the last one, a cell
     outside it interpenetrates, and the step is solved again on the whole grid, started from the box's pressure."""
     shapes = []
-    solve = simulation.solve_normal
+    solve = boxed_solve.solve_normal
 
     def counted(apply, base, **kwargs):
         shapes.append(np.shape(base))
         return solve(apply, base, **kwargs)
-    monkeypatch.setattr(simulation, "solve_normal", counted)
+    monkeypatch.setattr(boxed_solve, "solve_normal", counted)
     schedule = schedules.Static(load=[1e-4, 2.0], times=[1.0, 2.0])
     boxed = run(schedule, shape=(512, 256))
     monkeypatch.undo()
