@@ -31,7 +31,7 @@ import numpy as np
 from scipy.special import elliprd
 
 from .._validation import check_finite_array, check_poisson, check_positive
-from ..errors import ParameterError, ShapeError
+from ..errors import ParameterError
 from .hertz import HertzSphere
 
 #: Mandel weights: a symmetric tensor's components 11, 22, 33, 23, 13, 12 times these form a
