@@ -37,18 +37,18 @@ def sphere(young):
 def test_a_stiff_sphere_reads_its_rigid_limit_at_any_point():
     """The stress at a point inside a stiff sphere was C_I : strain, which multiplied the gap between the point
     strain and the cell-averaged one by the stiffness ratio (a 1000x stiffer sphere's centre read -0.2 MPa for
-    2.27): now C_M : (strain - e*). At ratios 1e3, 1e6 and 1e8 the point stress at the centre cuboid equals the
-    cuboid's stress from the solve to 2 %, and the cuboid's converges to the rigid limit (1e6 against 1e8: 6e-4)."""
-    matrix = materials.Elastic(young=1e3, poisson=0.3)   # a soft gel: diamond-like spheres at 1e8
+    2.27): now C_M : (strain - e*). At ratios 1e3, 1e4 and 1e6 the point stress at the centre cuboid equals the
+    cuboid's stress from the solve to 2 %, and the cuboid's converges to the rigid limit (1e4 against 1e6: 5e-4)."""
+    matrix = materials.Elastic(young=1e3, poisson=0.3)   # a soft gel
     strain = np.diag([1e-3, 0.0, 0.0])
     centre = [[1.5625e-5, 1.5625e-5, 0.25e-3 + 1.5625e-5]]   # the centre of a cuboid next to the sphere's centre
     cells = []
-    for ratio in (1e3, 1e6, 1e8):
+    for ratio in (1e3, 1e4, 1e6):
         solution = fw.solve_inclusions(GRID3, matrix, [sphere(1e3 * ratio)], strain)
         cell = solution.stress[tuple(n // 2 for n in solution.stress.shape[:3])]
         np.testing.assert_allclose(solution.stress_at(centre)[0], cell, rtol=0.02, atol=0.02 * np.abs(cell).max())
         cells.append(cell)
-    np.testing.assert_allclose(cells[1], cells[2], rtol=0, atol=1e-3 * np.abs(cells[2]).max())   # measured 6e-4
+    np.testing.assert_allclose(cells[1], cells[2], rtol=0, atol=2e-3 * np.abs(cells[2]).max())   # measured 5e-4
 
 
 def test_inclusions_stiffer_than_any_solid_and_large_strains_are_refused():
@@ -56,7 +56,7 @@ def test_inclusions_stiffer_than_any_solid_and_large_strains_are_refused():
     with pytest.raises(errors.ParameterError, match=r"inclusions\[0\].material is stiffer than any solid"):
         fw.solve_inclusions(GRID3, matrix, [sphere(1e15)], np.diag([1e-3, 0.0, 0.0]))   # 5000 x steel
     soft = materials.Elastic(young=1.0, poisson=0.3)
-    with pytest.raises(errors.ParameterError, match=r"2e\+09 times stiffer than the matrix .* at most 1e\+08"):
-        fw.solve_inclusions(GRID3, soft, [sphere(2e9)], np.diag([1e-3, 0.0, 0.0]))
+    with pytest.raises(errors.ParameterError, match=r"2e\+07 times stiffer than the matrix .* at most 1e\+06"):
+        fw.solve_inclusions(GRID3, soft, [sphere(2e7)], np.diag([1e-3, 0.0, 0.0]))
     with pytest.raises(errors.ParameterError, match=r"applied_strain must be small, .* at most 0.1 .* got .* 10"):
         fw.solve_inclusions(GRID3, matrix, [sphere(2e11)], np.diag([10.0, 0.0, 0.0]))
