@@ -105,10 +105,10 @@ def test_a_renamed_dataset_is_refused_not_dropped(copy):
 def test_a_flipped_bit_in_a_name_fails_hdf5s_header_checksum(copy):
     path = copy("r.h5")
     data = bytearray(path.read_bytes())
-    at = data.index(b"inclusion_start")
-    data[at + 10] ^= 0x01  # 'inclusion_start' -> 'inclusion_stbrt', in the object header
+    at = data.index(b"\x0finclusion_start") + 1   # the link's name (15 bytes) in the group's header, not the manifest
+    data[at + 10] ^= 0x01  # 'inclusion_start' -> 'inclusion_stbrt'
     path.write_bytes(bytes(data))
-    with pytest.raises(errors.FileError, match=r"is damaged: .*(checksum|signature)") as caught:
+    with pytest.raises(errors.FileError, match=r"is damaged: RuntimeError: .*incorrect metadata checksum") as caught:
         fw.load_result(path)
     one_line(caught, path)
 
