@@ -58,3 +58,8 @@ class DataWarning(FrameworkWarning):
 
 class UncheckedFileWarning(FrameworkWarning):
     """A file was read without checksums, as its format predates them: damage to it would go unnoticed."""
+
+
+class ResolutionWarning(FrameworkWarning):
+    """A result is resolved too coarsely to trust its numbers to a percent (e.g. a contact a few cells wide): the
+    warning gives the numbers and what to change."""
