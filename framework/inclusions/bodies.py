@@ -30,6 +30,13 @@ CELLS_TOLERANCE = 1e-9
 #: Ellipsoids whose Perram-Wertheim contact function is at most ``1 + TOUCH_TOLERANCE`` touch or overlap.
 TOUCH_TOLERANCE = 1e-12
 
+#: Columns per cuboid side of the rule that measures the share of a cuboid inside an ellipsoid
+#: (:meth:`Ellipsoid.cell_fractions`): ``FRACTION_COLUMNS^2`` columns along x3, each cut by the ellipsoid
+#: exactly (the roots of a quadratic). At 8 cuboids per semi-axis the shares add up to the ellipsoid's volume
+#: within 7e-6 (a sphere) and 4e-5 (a tilted ellipsoid 1 : 0.7 : 0.45) placed anywhere, within 1.5e-4 for a sphere
+#: centred on a cuboid corner (the columns meet its outline in step); with 4 columns 8e-5 and 3e-4.
+FRACTION_COLUMNS = 8
+
 _AXES = "xyz"
 
 
@@ -229,6 +236,59 @@ class Ellipsoid:
         center = np.asarray(self.center)
         return center - half, center + half
 
+    def cell_fractions(self, x1, x2, x3, spacing):
+        """Share of each cuboid of a lattice that lies inside the ellipsoid, and the outward normal there.
+
+        A cuboid lies wholly inside (share 1) or wholly outside (share 0) when its centre is farther from the
+        boundary than its half-diagonal can reach: ``sqrt(q(x))``, ``q(x) = (x - c)^T A^-1 (x - c)``, changes by
+        at most ``|dx| / a_min`` over a step ``dx``. Each other cuboid is split into ``FRACTION_COLUMNS^2``
+        columns along x3, and each column's chord through the ellipsoid (the interval where ``q <= 1``,
+        a quadratic in x3) is clipped to the cuboid: the share is the mean clipped length over ``dx3``.
+
+        Parameters
+        ----------
+        x1, x2, x3 : ndarray, 1-D
+            Cuboid centres [m] along each axis.
+        spacing : sequence of 3 float
+            Cuboid sizes ``(dx1, dx2, dx3)`` [m].
+
+        Returns
+        -------
+        fraction : ndarray, shape (len(x1), len(x2), len(x3))
+            Volume fraction of each cuboid inside the ellipsoid, in [0, 1].
+        normal : ndarray, shape (len(x1), len(x2), len(x3), 3)
+            Unit outward normal of the level surface of ``q`` through each cuboid centre (``A^-1 (x - c)``
+            normalised; the boundary's normal where a cuboid is cut).
+        """
+        spacing = np.asarray(spacing, dtype=float)
+        center = np.asarray(self.center)
+        form = self._quadratic_form()
+        offset = np.stack(np.meshgrid(x1, x2, x3, indexing="ij"), axis=-1) - center
+        gradient = offset @ form
+        level = np.sqrt(np.maximum(np.einsum("...i,...i->...", offset, gradient), 0.0))
+        reach = 0.5 * np.linalg.norm(spacing) / min(self.semi_axes)
+        fraction = (level < 1.0).astype(float)
+        cut = np.argwhere(np.abs(level - 1.0) <= reach * (1.0 + 1e-9))
+        if len(cut):
+            columns = (np.arange(FRACTION_COLUMNS) + 0.5) / FRACTION_COLUMNS - 0.5
+            u1, u2 = (values.ravel() for values in np.meshgrid(columns * spacing[0], columns * spacing[1],
+                                                                indexing="ij"))
+            base = offset[tuple(cut.T)]                                     # (m, 3)
+            p1, p2 = base[:, :1] + u1, base[:, 1:2] + u2                    # (m, columns^2)
+            # q = form33 t^2 + 2 b t + c <= 1 along the column, t = x3 - c3
+            b = form[0, 2] * p1 + form[1, 2] * p2
+            c = form[0, 0] * p1 ** 2 + 2.0 * form[0, 1] * p1 * p2 + form[1, 1] * p2 ** 2 - 1.0
+            discriminant = b * b - form[2, 2] * c
+            root = np.sqrt(np.maximum(discriminant, 0.0))
+            low, high = (-b - root) / form[2, 2], (-b + root) / form[2, 2]
+            bottom, top = base[:, 2:3] - 0.5 * spacing[2], base[:, 2:3] + 0.5 * spacing[2]
+            clipped = np.clip(np.minimum(high, top) - np.maximum(low, bottom), 0.0, None)
+            length = np.where(discriminant > 0.0, clipped, 0.0)
+            fraction[tuple(cut.T)] = np.clip(length.mean(axis=1) / spacing[2], 0.0, 1.0)
+        size = np.linalg.norm(gradient, axis=-1, keepdims=True)
+        normal = np.divide(gradient, size, out=np.zeros_like(gradient), where=size > 0.0)
+        return fraction, normal
+
 
 def contact_function(first, second):
     """Perram & Wertheim (1985) contact function of two ellipsoids.
@@ -350,6 +410,52 @@ class InclusionSet(Sequence):
             block = field_[tuple(window)]
             block[quadratic <= 1.0] = k + 1
         return field_
+
+    def fractions(self, x1, x2, x3, spacing):
+        """Share of each cuboid of a lattice inside the inclusions (:meth:`Ellipsoid.cell_fractions`).
+
+        Parameters
+        ----------
+        x1, x2, x3 : array_like, 1-D, increasing
+            Cuboid centres [m] (``grid.x1, grid.x2, grid.x3`` or a box of them).
+        spacing : sequence of 3 float
+            Cuboid sizes ``(dx1, dx2, dx3)`` [m].
+
+        Returns
+        -------
+        fraction : ndarray of float, shape (len(x1), len(x2), len(x3))
+            Volume fraction inside the inclusion ``owner`` names.
+        owner : ndarray of int, shape (len(x1), len(x2), len(x3))
+            0 where no inclusion reaches, else ``k + 1`` for the ``k``-th inclusion; a cuboid that two inclusions
+            share (they pass within a cuboid of each other) goes to the one with the larger share, and the other's
+            share there is dropped.
+        normal : ndarray, shape (len(x1), len(x2), len(x3), 3)
+            The owner's unit outward normal at the cuboid (:meth:`Ellipsoid.cell_fractions`).
+        """
+        axes = []
+        for name, values in (("x1", x1), ("x2", x2), ("x3", x3)):
+            values = check_finite_array(values, name=name, ndim=1)
+            if np.any(np.diff(values) <= 0.0):
+                raise ParameterError(f"{name} must be strictly increasing, got {values.tolist()!r}")
+            axes.append(values)
+        spacing = check_finite_array(spacing, name="spacing", shape=(3,))
+        if np.any(spacing <= 0.0):
+            raise ParameterError(f"spacing must hold three cuboid sizes > 0 [m], got {spacing.tolist()!r}")
+        shape = tuple(len(values) for values in axes)
+        fraction, owner, normal = np.zeros(shape), np.zeros(shape, dtype=np.int32), np.zeros((*shape, 3))
+        for k, body in enumerate(self.inclusions):
+            lower, upper = body.bounds()
+            window = tuple(slice(np.searchsorted(values, low - h / 2, "left"),
+                                 np.searchsorted(values, high + h / 2, "right"))
+                           for values, low, high, h in zip(axes, lower, upper, spacing))
+            if any(s.start >= s.stop for s in window):
+                continue
+            share, direction = body.cell_fractions(*(values[s] for values, s in zip(axes, window)), spacing)
+            larger = share > fraction[window]
+            fraction[window] = np.where(larger, share, fraction[window])
+            owner[window] = np.where(larger, k + 1, owner[window])
+            normal[window] = np.where(larger[..., None], direction, normal[window])
+        return fraction, owner, normal
 
     def check_inside(self, grid):
         """Raise :class:`~framework.errors.InclusionError` unless every inclusion is well placed on ``grid``.

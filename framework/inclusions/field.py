@@ -3,7 +3,7 @@ import numpy as np
 
 from .._validation import check_finite_array
 from ..errors import InclusionError, ParameterError, ShapeError
-from ..materials import Elastic, Viscoelastic
+from ..materials import Elastic, Viscoelastic, isotropic_tensor
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
 from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix
 
@@ -136,9 +136,24 @@ class InclusionProblem:
     travel : sequence of (int, int), optional
         The whole-cell shifts of the material at each step of a rolling run: the box
         moves with them, and must stay on the grid all the way.
+    geometry : {"staircase", "laminate"}
+        How the cuboids hold a body. ``"staircase"``: the cuboids whose centre it contains, whole.
+        ``"laminate"``: also each cuboid its boundary cuts, with the body's share of its volume and
+        the stiffness of a laminate of body and matrix parallel to the boundary there
+        (:mod:`framework.inclusions.subcell`; an elastic matrix only, as the laminate mixes its
+        stiffness): the interior stress is 6 times closer to Eshelby's and the boundary cuboids
+        free of the staircase's stripes, for about twice the GMRES iterations. :attr:`indicator`
+        stays the staircase's either way; :attr:`fraction` is each cuboid's share of a body.
     """
 
-    def __init__(self, grid, matrix, inclusions, margin=None, travel=None):
+    def __init__(self, grid, matrix, inclusions, margin=None, travel=None, geometry="staircase"):
+        from .subcell import GEOMETRIES, cut_cell_materials
+        if geometry not in GEOMETRIES:
+            raise ParameterError(f"geometry must be one of {', '.join(map(repr, GEOMETRIES))}, got {geometry!r}")
+        if geometry == "laminate" and not isinstance(matrix, Elastic):
+            raise ParameterError(f"geometry='laminate' needs an elastic matrix (its cut cuboids mix the matrix's "
+                                 f"stiffness with the body's, and a viscoelastic one's relaxes), got "
+                                 f"{type(matrix).__name__}; use geometry='staircase'")
         if not isinstance(matrix, (Elastic, Viscoelastic)):
             raise ParameterError(f"matrix must be a framework.materials.Elastic or Viscoelastic (a solid with an "
                                  f"instantaneous modulus), got {type(matrix).__name__}")
@@ -180,12 +195,20 @@ class InclusionProblem:
         self._stiffer = [float(np.mean(np.linalg.eigvalsh(np.linalg.solve(matrix_stiffness, mandel_matrix(c))))) > 1.0
                          for c in stiffnesses]
         start, self.shape, self.indicator = layout(grid, inclusions, margin)
+        self.geometry = geometry
+        materials, solved = self.indicator, stiffnesses
+        self.fraction = (self.indicator > 0).astype(float)
+        if geometry == "laminate":
+            spacing = (*grid.spacing, grid.layer_thickness)
+            self.fraction, owner, normal = inclusions.fractions(*box_coordinates(grid, start, self.shape), spacing)
+            materials, solved = cut_cell_materials(owner, self.fraction, normal, stiffnesses,
+                                                   isotropic_tensor(matrix.young, matrix.poisson))
         starts = None
         if travel is not None:
             starts = self._check_travel(start, travel)
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
                                              starts=starts)
-        self.problem = EquivalentInclusionProblem(self.operator, self.indicator, stiffnesses, instantaneous(matrix))
+        self.problem = EquivalentInclusionProblem(self.operator, materials, solved, instantaneous(matrix))
         for k in range(len(inclusions)):
             if not np.any(self.indicator == k + 1):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
@@ -280,6 +303,9 @@ class InclusionSolution:
         ``(n1, n2, layers, 6)`` equivalent eigenstrain (tensor shears, Voigt order xx yy zz yz xz xy).
     inhomogeneity : ndarray
         ``(n1, n2, layers)`` indicator: 0 in the matrix, ``k + 1`` in the ``k``-th inhomogeneity.
+    fraction : ndarray
+        ``(n1, n2, layers)`` share of each cuboid inside a body: 0 or 1 for the staircase, the cut
+        cuboids' volume fractions with ``geometry="laminate"`` (where ``stress`` is the cuboid's mean).
     stress : ndarray
         ``(m1, m2, m3, 6)`` total stress [Pa] on the box ``box`` around the inhomogeneities.
     box : tuple of slice
@@ -293,6 +319,7 @@ class InclusionSolution:
         self.box = problem.box
         self.eigenstrain = problem.on_grid(solution.eigenstrain)
         self.inhomogeneity = problem.on_grid(problem.indicator)
+        self.fraction = problem.on_grid(problem.fraction)
         self.stress = solution.stress
         self.iterations, self.residual, self.success = solution.iterations, solution.residual, solution.success
 
@@ -303,7 +330,7 @@ class InclusionSolution:
                                        self._box_eigenstrain)
 
 
-def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, margin=0.0):
+def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, margin=0.0, geometry="staircase"):
     """Inhomogeneities in an elastic half-space under a uniform applied strain, by the equivalent inclusion method.
 
     Parameters
@@ -321,6 +348,8 @@ def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, 
         Relative residual of the GMRES solve.
     margin : float
         Extra distance [m] around the inhomogeneities where ``stress`` is tabulated.
+    geometry : {"staircase", "laminate"}
+        Whole cuboids, or also the cut cuboids as laminates (see :class:`InclusionProblem`).
 
     Returns
     -------
@@ -336,6 +365,6 @@ def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, 
     if np.max(np.abs(applied)) > LARGEST_STRAIN:
         raise ParameterError(f"applied_strain must be small, every component at most {LARGEST_STRAIN:g} in magnitude "
                              f"(linear elasticity), got a largest component of {float(np.max(np.abs(applied))):g}")
-    problem = InclusionProblem(grid, matrix, inclusions, margin=margin)
+    problem = InclusionProblem(grid, matrix, inclusions, margin=margin, geometry=geometry)
     solution = problem.problem.solve(applied, tolerance=tolerance)
     return InclusionSolution(problem, applied, solution)
