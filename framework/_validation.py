@@ -7,6 +7,8 @@ double precision. Outside them (1e-300 m, 1e300 Pa) a run would overflow or
 divide by zero deep inside a solve, or report a misleading cause.
 """
 import numbers
+import os
+import pathlib
 
 import numpy as np
 
@@ -111,3 +113,52 @@ def check_finite_array(array, *, name, shape=None, ndim=None):
         raise ParameterError(
             f"{name} must be finite everywhere, got {float(array[tuple(bad)])!r} at index {tuple(int(i) for i in bad)}")
     return array
+
+
+def check_inside(value, folder, *, name, kind, owner, hint=""):
+    """``value``, a path relative to ``folder``, resolved (links followed) once it leads inside ``folder``.
+
+    The path is resolved before it is compared, so that neither ``..`` nor a
+    link can lead out of the folder; links that stay inside are followed.
+
+    Parameters
+    ----------
+    value : str
+        The path as a file gave it (a scenario's ``material.dma``, a sweep's ``folder``).
+    folder : str or os.PathLike
+        The folder it is relative to and must stay in (the file's folder).
+    name : str
+        The key named in messages.
+    kind : str
+        What the path names, in messages ("DMA file", "folder").
+    owner : str
+        Whose folder ``folder`` is, in messages ("scenario file").
+    hint : str
+        Appended to the message of an absolute path or one that leads out (what to do instead).
+
+    Returns
+    -------
+    pathlib.Path
+        The absolute path, links resolved; it need not exist.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``name``, the value and what was expected: for a value that is
+        not a non-empty ``str``, an absolute path, a loop of links, or a path
+        that leads out of ``folder``.
+    """
+    if not isinstance(value, str) or not value.strip():
+        raise ParameterError(f"{name}: expected a {kind} relative to the {owner}'s folder, got {value!r}")
+    base = pathlib.Path(folder).resolve()
+    if os.path.isabs(value) or pathlib.PureWindowsPath(value).anchor:
+        raise ParameterError(f"{name}: expected a {kind} relative to the {owner}'s folder {str(base)!r}, got the "
+                             f"absolute path {value!r}{hint}")
+    try:
+        path = (base / value).resolve()
+    except (OSError, RuntimeError) as exc:   # a loop of links
+        raise ParameterError(f"{name}: cannot follow {value!r} from {str(base)!r}: {exc}") from exc
+    if not path.is_relative_to(base):
+        raise ParameterError(f"{name}: expected a {kind} inside the {owner}'s folder {str(base)!r}, got {value!r}, "
+                             f"which leads to {str(path)!r}{hint}")
+    return path

@@ -26,7 +26,7 @@ import warnings
 import numpy as np
 
 from . import materials
-from ._validation import check_bool, check_positive_int, check_real
+from ._validation import check_bool, check_inside, check_positive_int, check_real
 from .config import build
 from .errors import FrameworkError, ParameterError
 
@@ -165,29 +165,16 @@ def _material(table, folder=None):
 def _dma_path(value, folder):
     """The file ``material.dma`` names, as an absolute path: relative to ``folder`` and inside it, links followed."""
     where = "material.dma"
-    if not isinstance(value, str) or not value.strip():
-        raise ParameterError(f"{where}: expected the path of a DMA file relative to the scenario file's folder, "
-                             f"got {value!r}")
     if folder is None:
         raise ParameterError(f"{where}: a DMA file is found relative to the scenario file's folder, and these tables "
                              f"come from no file; got {value!r} (read the scenario with scenario.read(path), or "
                              f"give parse(..., folder=...))")
-    if os.path.isabs(value) or pathlib.PureWindowsPath(value).anchor:
-        raise ParameterError(f"{where}: expected a path relative to the scenario file's folder, got the absolute "
-                             f"path {value!r}")
-    base = pathlib.Path(folder).resolve()
-    try:
-        path = (base / value).resolve()
-    except (OSError, RuntimeError) as exc:   # a loop of links
-        raise ParameterError(f"{where}: cannot follow {value!r} from {str(base)!r}: {exc}") from exc
-    # resolved first, so that neither ".." nor a link can lead out of the folder
-    if not path.is_relative_to(base):
-        raise ParameterError(f"{where}: expected a file inside the scenario file's folder {str(base)!r}, got "
-                             f"{value!r}, which leads to {str(path)!r}")
+    path = check_inside(value, folder, name=where, kind="DMA file", owner="scenario file")
+    check_path(value, name=where)
     if not path.is_file():
         what = "a folder" if path.is_dir() else "no such file"
-        raise ParameterError(f"{where}: expected a DMA file in the scenario file's folder {str(base)!r}, got "
-                             f"{value!r}: {what}")
+        raise ParameterError(f"{where}: expected a DMA file in the scenario file's folder "
+                             f"{str(pathlib.Path(folder).resolve())!r}, got {value!r}: {what}")
     return str(path)
 
 

@@ -151,11 +151,13 @@ def test_cells_is_refused_for_a_sweep_file(capsys):
 
 
 @pytest.mark.parametrize("folder, message", [
-    ("../../x", r"folder: expected a folder inside the sweep file's folder '.*', got '../../x', which leads to '.*'"),
+    ("../../x", r"folder: expected a folder inside the sweep file's folder '.*', got '../../x', which leads to '.*' "
+                r"\(give --folder on the command line to write elsewhere\)"),
     ("sub/../../x", r"folder: expected a folder inside the sweep file's folder"),
-    ("/tmp/x", r"folder: expected a folder relative to the sweep file's '.*', got the absolute path '/tmp/x'"),
+    ("/tmp/x", r"folder: expected a folder relative to the sweep file's folder '.*', got the absolute path '/tmp/x' "
+               r"\(give --folder on the command line to write elsewhere\)"),
     ("out\\u0007", r"folder: 'out\\x07' holds the control character '\\x07' at position 3"),
-    ("", r"folder: expected a folder relative to the sweep file's, got ''"),
+    ("", r"folder: expected a folder relative to the sweep file's folder, got ''"),
 ])
 def test_the_folder_of_a_sweep_file_is_confined_to_its_folder(capsys, tmp_path, no_cluster, folder, message):
     base = tmp_path / "a" / "b"

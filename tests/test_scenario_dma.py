@@ -166,12 +166,16 @@ def refused(path, message):
 
 @pytest.mark.parametrize("material, message", [
     (f'dma = "{os.path.join(DATA, CSV)}", reference = 268.39, poisson = 0.35',
-     r"material.dma: expected a path relative to the scenario file's folder, got the absolute path '/"),
+     r"material.dma: expected a DMA file relative to the scenario file's folder '.*', got the absolute path '/"),
     ('dma = "missing.csv", reference = 268.39, poisson = 0.35',
      r"material.dma: expected a DMA file in the scenario file's folder '.*', got 'missing.csv': no such file"),
     ('dma = "data", reference = 268.39, poisson = 0.35', r"material.dma: .*got 'data': a folder"),
-    ('dma = "", reference = 268.39, poisson = 0.35', r"material.dma: expected the path of a DMA file .*got ''"),
-    ('dma = 3, reference = 268.39, poisson = 0.35', r"material.dma: expected the path of a DMA file .*got 3"),
+    ('dma = "", reference = 268.39, poisson = 0.35',
+     r"material.dma: expected a DMA file relative to the scenario file's folder, got ''"),
+    ('dma = 3, reference = 268.39, poisson = 0.35',
+     r"material.dma: expected a DMA file relative to the scenario file's folder, got 3"),
+    ('dma = "sweeps\\t.csv", reference = 268.39, poisson = 0.35',
+     r"material.dma: 'sweeps\\t.csv' holds the control character '\\t' at position 6"),
     ('dma = "pyvisco_freq_raw.csv", reference = 273.4, poisson = 0.35',
      r"material.reference: expected one of the sweeps' temperatures \[223.24, .*268.39, .*373.14\] K \(within "
      r"0.5 K\), whose shift factors are fitted, got 273.4"),
@@ -204,17 +208,24 @@ def test_paths_out_of_the_scenario_folder_are_refused(tmp_path):
     inside.mkdir()
     shutil.copy(os.path.join(DATA, CSV), tmp_path / CSV)   # a real file, one level up
     path = scenario_file(inside, f'dma = "../{CSV}", reference = 268.39, poisson = 0.35')
-    refused(path, rf"material.dma: expected a file inside the scenario file's folder '.*scenario', got "
+    refused(path, rf"material.dma: expected a DMA file inside the scenario file's folder '.*scenario', got "
                   rf"'../{CSV}', which leads to '.*{CSV}'")
     path = scenario_file(inside, f'dma = "sub/../../{CSV}", reference = 268.39, poisson = 0.35')
-    refused(path, r"material.dma: expected a file inside the scenario file's folder")
+    refused(path, r"material.dma: expected a DMA file inside the scenario file's folder")
     os.symlink(tmp_path / CSV, inside / "link.csv")
     path = scenario_file(inside, 'dma = "link.csv", reference = 268.39, poisson = 0.35')
-    message = refused(path, r"material.dma: expected a file inside the scenario file's folder .*got 'link.csv'")
+    message = refused(path, r"material.dma: expected a DMA file inside the scenario file's folder .*got 'link.csv'")
     assert re.search(rf"which leads to '{re.escape(str((tmp_path / CSV).resolve()))}'", message)
     os.symlink(inside / CSV, inside / "inner.csv")   # a link inside the folder is followed
     path = scenario_file(inside, 'dma = "inner.csv", reference = 268.39, poisson = 0.35, terms = 4')
     assert isinstance(scenario.read(path).simulation.material, materials.Viscoelastic)
+
+
+def test_a_loop_of_links_is_named(tmp_path):
+    os.symlink(tmp_path / "b", tmp_path / "a")
+    os.symlink(tmp_path / "a", tmp_path / "b")
+    refused(scenario_file(tmp_path, 'dma = "a/x.csv", reference = 268.39, poisson = 0.35'),
+            r"^.*material.dma: cannot follow 'a/x.csv' from '.*': .*[Ll]oop")
 
 
 def test_tables_from_no_file_cannot_name_one(tmp_path):

@@ -12,8 +12,8 @@
     # "indenter.radius" = 5e-3
 """
 import os
-import pathlib
 
+from .._validation import check_inside
 from ..errors import FrameworkError
 from ..scenario import ScenarioError, check_path, load_tables, parse
 from .builder import ScenarioBuilder
@@ -42,25 +42,12 @@ def _flatten(table, prefix=""):
 
 def _folder(path, value, base):
     """The sweep file's ``folder``: relative to the file's folder ``base`` and inside it, links followed."""
-    if not isinstance(value, str) or not value.strip():
-        raise ScenarioError(f"{path}: folder: expected a folder relative to the sweep file's, got {value!r}")
     try:
+        check_inside(value, base, name="folder", kind="folder", owner="sweep file",
+                     hint=" (give --folder on the command line to write elsewhere)")
         check_path(value, name="folder")
     except FrameworkError as exc:
         raise ScenarioError(f"{path}: {exc}") from exc
-    if os.path.isabs(value) or pathlib.PureWindowsPath(value).anchor:
-        raise ScenarioError(f"{path}: folder: expected a folder relative to the sweep file's {base!r}, got the "
-                            f"absolute path {value!r} (give --folder on the command line to write elsewhere)")
-    root = pathlib.Path(base).resolve()
-    try:
-        folder = (root / value).resolve()
-    except (OSError, RuntimeError) as exc:  # a loop of links
-        raise ScenarioError(f"{path}: folder: cannot follow {value!r} from {str(root)!r}: {exc}") from exc
-    # resolved first, so that neither ".." nor a link can lead out of the folder
-    if not folder.is_relative_to(root):
-        raise ScenarioError(f"{path}: folder: expected a folder inside the sweep file's folder {str(root)!r}, got "
-                            f"{value!r}, which leads to {str(folder)!r} (give --folder on the command line to "
-                            f"write elsewhere)")
     return os.path.join(base, value)
 
 
