@@ -99,6 +99,7 @@ class ContactCoupling:
         self.eigenstrain = None     # the last step's, to start the next one from
         self.disturbance = None     # D[eigenstrain], known from its solve: saves a product per solve
         self.displacement = 0.0
+        self.past = []              # (time, Mandel values) of the last accepted steps: the moved step's predictor
 
     def move(self, cells, periodic=(False, False)):
         """The material moved by ``cells`` whole cells (rolling): the inhomogeneities, their box and the
@@ -120,6 +121,8 @@ class ContactCoupling:
         """Remember the converged step (its contact stress and equivalent-body field)."""
         self._creep.commit(self._time, step.contact_stress)
         self._relaxation.commit(self._time, step.field)
+        inner = self.problem.problem
+        self.past = (self.past + [(self._time, step.eigenstrain[inner.cells] * MANDEL)])[-PREDICTOR_STEPS:]
 
     def _right(self, pressure):
         """The equivalent-inclusion system's right-hand side (Mandel, ``(N, 6)``) for the contact pressure, with
@@ -174,7 +177,8 @@ class ContactCoupling:
         else:
             values = np.asarray(self.eigenstrain)[inner.cells] * MANDEL
             disturbance, displacement = self.disturbance, self.displacement
-            if disturbance is None:     # the box moved: both anew (the displacement was only translated)
+            if disturbance is None:     # the box moved: both anew (the displacement was only translated),
+                values = predicted(self.past, self._time, values)    # for the step's predicted eigenstrain
                 disturbance, displacement = operator.strain(inner.box_field(values), displacement=True)
                 inner.products += 1
         deflation = inner.recycled.preconditioner(inner._image, inner.young)
@@ -213,6 +217,9 @@ class ContactCoupling:
     def snapshot(self):
         """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
         out = {"inclusion_eigenstrain": self.eigenstrain, "inclusion_start": np.array(self.problem.start)}
+        if self.past:               # the predictor's steps (a resumed run predicts as the whole one did)
+            out["inclusion_past_times"] = np.array([t for t, _ in self.past])
+            out["inclusion_past_values"] = np.array([values for _, values in self.past])
         if self.disturbance is not None:    # with the surface displacement the iterates combined (a step starts there)
             out["inclusion_disturbance"] = self.disturbance
             out["inclusion_displacement"] = np.asarray(self.displacement, dtype=float)
@@ -227,6 +234,8 @@ class ContactCoupling:
         """Continue from :meth:`snapshot`'s arrays."""
         self.eigenstrain = snapshot["inclusion_eigenstrain"]
         self.disturbance = snapshot.get("inclusion_disturbance")
+        self.past = [(float(t), np.asarray(values)) for t, values in
+                     zip(snapshot.get("inclusion_past_times", ()), snapshot.get("inclusion_past_values", ()))]
         if "inclusion_start" in snapshot:    # where the material had carried the box (rolling)
             start = np.asarray(snapshot["inclusion_start"], dtype=int)
             self.problem.move(tuple(int(c) for c in start[:2] - np.array(self.problem.start[:2])))
@@ -246,6 +255,36 @@ class ContactCoupling:
 #: Iterates the Anderson mixing of the coupling remembers.
 ANDERSON_DEPTH = 20
 
+#: Relative cut of the Anderson Gram matrix's eigenvalues (singular values of the scaled differences below 1e-6
+#: of the largest are dropped: nearly dependent iterates add nothing but rounding).
+GRAM_RCOND = 1e-12
+
+#: Accepted steps the predictor of a moved step extrapolates from (3: quadratic in time). Rolling over glass
+#: (bench/rolling_inclusion.py), the step's first relative residual falls from 0.08 (the last step's eigenstrain)
+#: to 0.010 (linear) and 0.0024 (quadratic), and the iterations from 17 to 15.
+PREDICTOR_STEPS = 3
+
+
+def predicted(past, time, values):
+    """The eigenstrain at ``time`` extrapolated from the last accepted steps ``past`` [(time, values)].
+
+    Lagrange's polynomial through the last steps (at most :data:`PREDICTOR_STEPS`, equally spaced or
+    not) evaluated at ``time``; ``values`` (the last step's) when there are fewer than two steps, when
+    the last one is not ``values``' step, or when the steps do not increase in time. Used where the
+    box has moved (rolling: the body passes the contact one cell a step, and the eigenstrain varies
+    smoothly with the step), whose first product is needed anyway.
+    """
+    if len(past) < 2 or past[-1][1].shape != values.shape or not np.array_equal(past[-1][1], values):
+        return values
+    times = np.array([t for t, _ in past])
+    if np.any(np.diff(times) <= 0.0) or time <= times[-1]:
+        return values
+    out = np.zeros_like(values)
+    for k, (t_k, v_k) in enumerate(past):
+        weight = np.prod([(time - t_j) / (t_k - t_j) for j, t_j in enumerate(times) if j != k])
+        out += weight * v_k
+    return out
+
 
 def _anderson(history):
     """Next iterate of Anderson mixing (type II) from the images ``G_k = e_k + f_k`` and residuals ``f_k``.
@@ -256,8 +295,15 @@ def _anderson(history):
     if len(history) == 1:
         return history[-1][:3]
     residuals = np.array([item[3] for item in history])
-    differences = np.diff(residuals, axis=0).T
-    weights, *_ = np.linalg.lstsq(differences, residuals[-1], rcond=None)
+    differences = np.diff(residuals, axis=0)
+    # the least squares min |f_last - sum w_k df_k| by its normal equations, columns scaled to unit length (as
+    # scipy.optimize's Anderson does): a (k, k) Gram matrix instead of numpy's SVD of the (n, k) differences,
+    # 16 vs 10 ms on one core and 290 vs 42 ms under threaded BLAS on a busy machine; the iterates' residuals are
+    # computed afresh, so the weights' rounding only changes the path, not the converged answer
+    lengths = np.sqrt(np.einsum("ij,ij->i", differences, differences))
+    lengths[lengths == 0.0] = 1.0
+    scaled = differences / lengths[:, None]
+    weights = np.linalg.lstsq(scaled @ scaled.T, scaled @ residuals[-1], rcond=GRAM_RCOND)[0] / lengths
     out = []
     for part in range(3):
         stack = [item[part] for item in history]
