@@ -118,24 +118,41 @@ class RecycledSpace:
     def images(self):
         return self._store[2, :self.count]
 
-    def _append(self, direction, strain, image):
-        """Add one triple, its image orthogonalised against the kept ones (twice) and normalised; when full,
-        the least used is overwritten (the others stay orthonormal)."""
-        triple = np.array([direction, strain, image], dtype=float)
+    def _append(self, triples):
+        """Add triples ``(b, 3, size)`` (direction, strain, image), each image orthogonalised against the kept ones
+        and the block's earlier ones (twice) and normalised; when full, the least used make room (the others
+        stay orthonormal).
+
+        The block is projected on the kept images at once (two matrix products read the store once, where one
+        triple at a time read it eight times: 17 directions a step on the rolling bench's 220 kept, 0.63 ->
+        0.18 s on a busy core); within the block one at a time.
+        """
+        count = self.count
+        lengths = np.sqrt(np.einsum("ij,ij->i", triples[:, 2], triples[:, 2]))
         for _ in range(2):
-            weights = self.images @ triple[2]
-            for t in range(3):
-                triple[t] -= weights @ self._store[t, :self.count]
-        length = np.linalg.norm(triple[2])
-        if not np.isfinite(length) or length <= 1e-10 * max(np.linalg.norm(image), 1e-300):
-            return                      # dependent on the kept ones: nothing new
-        if self.count < self.kept:
-            slot = self.count
-            self.count += 1
-        else:       # full: the direction the last residuals used least makes room
-            slot = int(np.argmin(self.use))
-        self._store[:, slot] = triple / length
-        self.use[slot] = np.inf if self.count < self.kept else self.use.max()
+            if count:
+                weights = triples[:, 2] @ self.images.T
+                for t in range(3):
+                    triples[:, t] -= weights @ self._store[t, :count]
+        accepted = 0            # the block's independent triples, normalised, moved to its front
+        for triple, length in zip(triples, lengths):
+            block = triples[:accepted]
+            for _ in range(2 if accepted else 0):
+                weights = block[:, 2] @ triple[2]
+                for t in range(3):
+                    triple[t] -= weights @ block[:, t]
+            rest = np.linalg.norm(triple[2])
+            if np.isfinite(rest) and rest > 1e-10 * max(length, 1e-300):     # else dependent: nothing new
+                triples[accepted] = triple / rest
+                accepted += 1
+        for triple in triples[:accepted]:
+            if self.count < self.kept:
+                slot = self.count
+                self.count += 1
+            else:       # full: the direction the last residuals used least makes room
+                slot = int(np.argmin(self.use))
+            self._store[:, slot] = triple
+            self.use[slot] = np.inf if self.count < self.kept else self.use.max()
 
     def add(self, directions, strains, images_of, key):
         """Keep these directions ``(N,)`` and their strains ``D[u]`` on the cuboids (Mandel, ``(N/6, 6)``);
@@ -143,18 +160,18 @@ class RecycledSpace:
         if not self.kept:
             return
         self._refresh(images_of, key)
-        for u, d in zip(directions, strains):
-            self._append(np.ravel(u), np.ravel(d), images_of(u, d))
+        if len(directions):
+            self._append(np.array([[np.ravel(u), np.ravel(d), images_of(u, d)] for u, d in zip(directions, strains)],
+                                  dtype=float))
 
     def _refresh(self, images_of, key):
         """Recompute the images for another operator (from the strains) and orthonormalise them anew."""
         # a preconditioner: images for a modulus within 1e-9 of the key's are as good (the steps of a
         # run at one time step give moduli equal but for rounding)
         if self.count and (self.key is None or abs(key - self.key) > 1e-9 * abs(self.key)):
-            triples = [(u.copy(), d.copy()) for u, d in zip(self.directions, self.strains)]
+            triples = np.array([(u, d, images_of(u, d)) for u, d in zip(self.directions, self.strains)])
             self.count = 0
-            for u, d in triples:
-                self._append(u, d, images_of(u, d))
+            self._append(triples)
         self.key = key
 
     def preconditioner(self, images_of, key):
