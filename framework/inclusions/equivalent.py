@@ -338,6 +338,9 @@ class EquivalentInclusionProblem:
         return 6 * self.material.size
 
     def per_material(self, matrices, values):
+        """``values (N, 6)`` each times its cuboid's material's matrix (``matrices[k]`` for material ``k``)."""
+        if len(matrices) > 8:   # many materials (the laminate's cut cuboids): one gathered product, not a loop of masks
+            return np.einsum("nij,nj->ni", np.asarray(matrices)[self.material], values)
         out = np.empty_like(values)
         for k, matrix in enumerate(matrices):
             rows = self.material == k
