@@ -6,7 +6,7 @@ import numpy as np
 from ._validation import check_finite_array, check_positive_int
 from ._version import __version__
 from .errors import ParameterError, ShapeError
-from .operators.kernels import subsurface_stress
+from .operators.one_sided import love_stress_at
 from .operators.stress import SubsurfaceStress
 
 
@@ -73,6 +73,8 @@ class Result:
         self._stress_operator = None
         self.stress_memory = 2 * 1024**3
         self._stress_cache = (None, None)
+        self._field_operator = None
+        self._relaxation_replay = (-1, None, None)
         self._reductions = []
 
     def append(self, record):
@@ -244,18 +246,83 @@ class Result:
         return self._stress_operator
 
     def stress(self, step):
-        """Stress [Pa] at the layer centres, shape (n1, n2, layers, 6), Voigt xx yy zz yz xz xy."""
+        """Stress [Pa] at the layer centres, shape (n1, n2, layers, 6), Voigt xx yy zz yz xz xy.
+
+        The contact's stress (Love's coefficients) plus, with inhomogeneities, their eigenstrains'
+        field on the whole grid: in the box around them (the operators' box) the stress the run
+        computed, beyond it :class:`~framework.operators.eigenstrain_field.EigenstrainField` of the
+        step's eigenstrains (the same kernels, so the field continues across the box's faces). Its
+        operator is built at the first call and kept; each step costs one product (1.0-1.3 s and
+        about 0.3 GiB on a 128 x 128 x 40 grid around a 30 x 31 x 30 box).
+
+        With a viscoelastic matrix (constant Poisson ratio) the strain an eigenstrain causes does
+        not depend on the modulus, but the matrix's stress does, through its history: beyond the
+        bodies it is ``C_bar : D[e~]`` with ``e~(t) = int_0^t R(t - s) de*(s)`` the eigenstrains
+        weighted by the relaxation modulus ``R`` (THEORY.md sec. 8), neither the instantaneous
+        ``E(0) D[e*]`` nor the relaxed ``E_inf D[e*]``. ``e~`` is the run's own Prony recursion
+        replayed over the recorded steps (eigenstrain linear within each): the same numbers as the
+        run's when it recorded every step it took (a rolling run over a distance, a static one whose
+        steps are its output times); where it took steps it did not record, ``e*`` is taken as linear
+        between the recorded ones.
+        """
         record = self._record(step)
         if not self.grid.layers:
             raise ParameterError("stress needs subsurface layers: the grid has layers=0; "
                                  "give Grid(..., depth=..., layers=...)")
         key, value = self._stress_cache
         if key != record.index:
-            value = self._operator().apply(record.pressure)
-            if record.inclusion_stress is not None:
+            if record.eigenstrain is None:
+                value = self._operator().apply(record.pressure)
+            else:
+                position = step % len(self.records)
+                value = self._eigenstrain_field().apply(self._relaxed_eigenstrain(position),
+                                                        start=self._inclusion_start(record), pressure=record.pressure)
                 value[self._inclusion_box(record)] = record.inclusion_stress
             self._stress_cache = (record.index, value)
         return value
+
+    def _eigenstrain_field(self):
+        """The operator from the box's eigenstrains to the stress on the whole grid (built once)."""
+        if self._field_operator is None:
+            from .operators.eigenstrain_field import EigenstrainField
+            start, shape, _ = self._layout()
+            self._field_operator = EigenstrainField(self.grid, self.material.poisson, start, shape,
+                                                    starts=self._box_starts(start), surface_stress=self._operator())
+        return self._field_operator
+
+    def _box_starts(self, start):
+        """Every (x1, x2) place of the box in the run: the start alone, or each one a rolling run carries it to."""
+        schedule = self.schedule
+        if getattr(schedule, "velocity", None) is None or schedule.steady:
+            return [tuple(start[:2])]
+        from .stations import rolling_stations
+        position, starts = np.array(start[:2]), [tuple(start[:2])]
+        for station in rolling_stations(schedule, self.grid, refine=False):
+            position = position + station.shift
+            starts.append(tuple(int(c) for c in position))
+        return starts
+
+    def _relaxed_eigenstrain(self, position):
+        """``e~ = int R(t - s) de*(s)`` [Pa] on the box at record ``position``: ``E e*`` for an elastic matrix; for a
+        viscoelastic one the relaxation recursion replayed over the records up to it (kept, so steps asked in
+        order cost one update each)."""
+        from .materials import Elastic
+        records = self.records
+        if isinstance(self.material, Elastic):
+            return self.material.young * records[position].eigenstrain
+        from .history import PronyRecursion
+        from .inclusions.coupling import matrix_series
+        done, recursion, relaxed = self._relaxation_replay
+        if done == position:
+            return relaxed
+        if recursion is None or done > position:
+            done, recursion = -1, PronyRecursion(matrix_series(self.material)[1], records[position].eigenstrain.shape)
+        for k in range(done + 1, position + 1):
+            modulus, history = recursion.prepare(records[k].time)
+            relaxed = modulus * records[k].eigenstrain + (0.0 if history is None else history)
+            recursion.commit(records[k].time, records[k].eigenstrain)
+        self._relaxation_replay = (position, recursion, relaxed)
+        return relaxed
 
     def _inclusions_problem(self):
         """The inhomogeneities' operators (built on demand for ``stress_at`` of a loaded result)."""
@@ -308,6 +375,13 @@ class Result:
     def stress_at(self, step, points):
         """Stress [Pa] at arbitrary points, shape (n, 6), by direct summation over the cells.
 
+        Below the surface the contact's stress is continuous; at the surface it jumps at the
+        edges of the cells, where the pressure does, and a point on an edge or corner (within
+        :data:`~framework.operators.one_sided.FACE_TOLERANCE` of a cell) takes the value of the
+        cell on its positive side (larger x1, x2). With inhomogeneities the same convention
+        holds on the faces, edges and corners of the cuboids
+        (:meth:`framework.inclusions.field.InclusionProblem.stress_at`).
+
         Parameters
         ----------
         step : int
@@ -332,13 +406,7 @@ class Result:
             raise ParameterError(f"stress_at sums over the cells of a non-periodic grid, got periodic={grid.periodic}")
         loaded = pressure > 0
         x1, x2 = (c[loaded] for c in grid.coordinates())
-        p = pressure[loaded]
-        dx1, dx2 = grid.spacing
-        out = np.empty((points.shape[0], 6))
-        for i, (y1, y2, y3) in enumerate(points):
-            coefficients = subsurface_stress(y1 - x1, y2 - x2, y3, half1=dx1 / 2, half2=dx2 / 2,
-                                             poisson=self.material.poisson)
-            out[i] = p @ coefficients
+        out = love_stress_at(points, x1, x2, pressure[loaded], spacing=grid.spacing, poisson=self.material.poisson)
         record = self._record(step)
         if record.eigenstrain is not None:
             from .materials import Elastic

@@ -263,20 +263,31 @@ class InclusionProblem:
         it is ``C_I : strain``: the two are equal at the solution, and each form multiplies the difference
         between the point strain and the cell-averaged strain the solver balanced by the smaller stiffness. A
         point is in a body where its cuboid is (the bodies are their cuboids).
+
+        Any point of the grid's subsurface box, the surface and the bottom included: a point on a face, edge
+        or corner of the cuboids (within :data:`~framework.operators.one_sided.FACE_TOLERANCE` of a cuboid's
+        size) belongs to the cuboid on its positive side (larger x1, x2, x3: the one ``floor`` picks), and
+        its stress is the limit from inside that cuboid (:mod:`framework.operators.one_sided`). Where the
+        stress is continuous (between cuboids of equal eigenstrain) that is its value; on a body's boundary,
+        where it jumps, it is the value on the side of larger coordinates; on an edge between cuboids of
+        different eigenstrain, where the staircase's strain is logarithmically infinite, its finite part.
         ``applied_strain`` is a function of the points returning ``(n, 6)`` strains.
         """
+        from ..operators.one_sided import lattice_index
         points = check_finite_array(points, name="points", ndim=2)
         if points.shape[1] != 3:
             raise ShapeError(f"points must have shape (n, 3), got {points.shape}")
         grid = self.grid
-        if (np.any(np.abs(points[:, 0]) > grid.size[0] / 2) or np.any(np.abs(points[:, 1]) > grid.size[1] / 2)
-                or np.any(points[:, 2] <= 0) or np.any(points[:, 2] > grid.depth)):
+        outside = ((np.abs(points[:, 0]) > grid.size[0] / 2) | (np.abs(points[:, 1]) > grid.size[1] / 2)
+                   | (points[:, 2] < 0) | (points[:, 2] > grid.depth))
+        if outside.any():
             raise ParameterError(f"points must lie inside the subsurface box |x1| <= {grid.size[0] / 2:g}, "
-                                 f"|x2| <= {grid.size[1] / 2:g}, 0 < x3 <= {grid.depth:g} m")
+                                 f"|x2| <= {grid.size[1] / 2:g}, 0 <= x3 <= {grid.depth:g} m; got "
+                                 f"{points[np.argmax(outside)].tolist()}")
         strain = applied_strain(points) + self.operator.strain_at(points, eigenstrain)
         spacing = np.array(self.operator.spacing)
         origin = np.array([-grid.size[0] / 2, -grid.size[1] / 2, 0.0]) + np.array(self.start) * spacing
-        index = np.floor((points - origin) / spacing).astype(int)
+        index = lattice_index(points, origin, spacing)
         inside_box = np.all((index >= 0) & (index < self.shape), axis=1)
         cell = np.zeros((len(points), 6))
         cell[inside_box] = eigenstrain[tuple(index[inside_box].T)]

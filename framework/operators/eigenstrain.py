@@ -252,18 +252,13 @@ def strain_at_points(points, centres, eigenstrain, half, poisson, chunk=200_000,
     """Strain ``(n, 6)`` at ``points (n, 3)`` of an infinite body from cuboids by direct summation.
 
     ``centres (N, 3)`` and ``eigenstrain (N, 6)`` give the cuboids and their eigenstrains.
-    Exact (to rounding) for points anywhere but on a face plane; it costs ``n N`` kernel
-    evaluations, for checks and a few points. With ``cell`` (sizes [m]) the strain is
-    averaged over a cell centred on each point (:func:`cell_average_rule`).
+    Exact (to rounding) for points anywhere, on faces, edges and corners the one-sided
+    limit from the cuboid on the positive side (:mod:`framework.operators.one_sided`); it
+    costs ``n N`` kernel evaluations, for checks and a few points. With ``cell`` (sizes [m])
+    the strain is averaged over a cell centred on each point (:func:`cell_average_rule`).
     """
-    out = np.zeros((len(points), 6))
-    per_point = max(1, chunk // max(1, len(centres)))
-    for begin in range(0, len(points), per_point):
-        block = points[begin:begin + per_point]
-        offsets = block[:, None, :] - centres[None, :, :]
-        out[begin:begin + per_point] = strain_from_potentials(cuboid_potentials(offsets, half, cell),
-                                                              eigenstrain[None], poisson).sum(axis=1)
-    return out
+    from .one_sided import strain_at_points as one_sided
+    return one_sided(points, centres, eigenstrain, half, poisson, chunk=chunk, cell=cell)
 
 
 def _stiffness_coefficients(poisson):
@@ -571,11 +566,13 @@ class HalfSpaceEigenstrain:
 
         The same three terms as :meth:`strain`, each summed over the box's loaded
         cuboids (and, for the Boussinesq term, the surface cells) without FFTs, so the
-        points may lie anywhere below the surface but not on a cuboid face. With
-        ``average=True`` the first two terms are averaged over a cuboid centred on each
+        points may lie anywhere in the half-space, the surface included; on a face, edge or
+        corner of the cuboids (or of the surface cells, at the surface) the value is the
+        one-sided limit from the cuboid on the positive side (:mod:`~framework.operators.one_sided`).
+        With ``average=True`` the first two terms are averaged over a cuboid centred on each
         point, as the operator's (``average=True``) are.
         """
-        from .kernels import subsurface_stress
+        from .one_sided import love_stress_at
         eigenstrain = self._check(eigenstrain)
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         loaded = np.nonzero(np.any(eigenstrain != 0.0, axis=-1))
@@ -588,10 +585,6 @@ class HalfSpaceEigenstrain:
         strain = (strain_at_points(points, centres, values, half, self.poisson, cell=cell)
                   + strain_at_points(points, mirrored, values * MIRROR, half, self.poisson, cell=cell))
         pressure = self.surface_traction(eigenstrain)
-        x1, x2 = (c[self.patch] for c in self.grid.coordinates())
-        dx1, dx2 = self.grid.spacing
-        stress = np.empty((len(points), 6))
-        for i, (y1, y2, y3) in enumerate(points):
-            stress[i] = pressure.ravel() @ subsurface_stress((y1 - x1).ravel(), (y2 - x2).ravel(), y3,
-                                                             half1=dx1 / 2, half2=dx2 / 2, poisson=self.poisson)
+        x1, x2 = (c[self.patch].ravel() for c in self.grid.coordinates())
+        stress = love_stress_at(points, x1, x2, pressure.ravel(), spacing=self.grid.spacing, poisson=self.poisson)
         return strain + strain_from_stress(stress, self.poisson)
