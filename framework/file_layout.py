@@ -2,7 +2,7 @@
 
 A file's *structure* is every group and dataset below the root with its shape, dtype, chunks,
 HDF5 filters and attributes: what HDF5 keeps in the file's metadata, apart from the stored
-numbers. Format 4 writes it as the JSON attribute ``manifest``, under the file's checksum, and the
+numbers. Formats 4 and 5 write it as the JSON attribute ``manifest``, under the file's checksum, and the
 reader compares it with the structure it finds. A flipped bit in a dataset's name, a dimension or
 an attribute then fails the comparison instead of dropping a dataset: ``series/inclusion_start``
 read as ``series/inclusion_stbrt`` would lose the inhomogeneities' positions and shift their
@@ -24,6 +24,9 @@ FIELDS = ("pressure", "displacement", "gap")
 INCLUSION_SERIES = ("couplings", "inclusion_start")
 INCLUSION_FIELDS = ("eigenstrain", "inclusion_stress")
 INCLUSION = frozenset({f"series/{key}" for key in INCLUSION_SERIES} | {f"fields/{key}" for key in INCLUSION_FIELDS})
+#: The estimated time-stepping error of each step (``Result.time_error``): format 4 and later, optional (files
+#: written before it lack it and read as NaN).
+TIME_ERROR = "series/time_error"
 #: The groups and datasets every result file holds; the others (the inhomogeneities', the state) are optional.
 REQUIRED = frozenset({"series", "fields"} | {f"series/{key}" for key in SERIES} | {f"fields/{key}" for key in FIELDS})
 #: The HDF5 filters a result file may use: gzip (deflate), shuffle and Fletcher-32.
@@ -33,10 +36,11 @@ FLETCHER32 = 3
 ROOT_ATTRIBUTES = {1: {"format", "framework_version", "configuration"},
                    2: {"format", "framework_version", "configuration", "checksum"},
                    3: {"format", "framework_version", "configuration", "checksum"},
-                   4: {"format", "framework_version", "configuration", "manifest", "checksum"}}
-#: File attributes a sweep adds to a point's file once it is written (the point, the wall time): allowed in
-#: every format, outside the checksum, and not read by :func:`framework.load_result`.
-ANNOTATIONS = {"sweep_point", "sweep_wall_time"}
+                   4: {"format", "framework_version", "configuration", "manifest", "checksum"},
+                   5: {"format", "framework_version", "configuration", "manifest", "checksum"}}
+#: File attributes of a sweep's point (the point, the wall time of its run), allowed in every format: from format 5
+#: on written by :func:`framework.io.save` under the file's checksum; before, added after writing, outside it.
+ANNOTATIONS = frozenset({"sweep_point", "sweep_wall_time"})
 #: dtype kinds of each dataset (NumPy's ``dtype.kind``); the state's arrays are numbers of any kind.
 KINDS = {"index": "iu", "iterations": "iu", "couplings": "iu", "inclusion_start": "iu", "success": "b"}
 NUMBERS = "biuf"
@@ -149,7 +153,7 @@ def check_layout(objects, format, fail, forged):
     marks = _later_format_marks(objects) if format == 1 else []
     if marks:
         raise forged(marks[0])
-    allowed = REQUIRED | {"state"} | (INCLUSION if format >= 3 else set())
+    allowed = REQUIRED | {"state"} | (INCLUSION if format >= 3 else set()) | ({TIME_ERROR} if format >= 4 else set())
     for path, item in objects.items():
         group = path.split("/")[0]
         if path not in allowed and not (group == "state" and path.count("/") == 1):
@@ -246,7 +250,7 @@ def check_shapes(objects, configuration, fail):
         raise fail(f"dataset 'series/time' has shape {time!r}; expected (steps,)")
     steps = time[0]
     why = f"the configuration's grid has {n1} x {n2} cells and 'series/time' {steps} steps"
-    expected = {f"series/{key}": [steps] for key in SERIES + INCLUSION_SERIES}
+    expected = {f"series/{key}": [steps] for key in SERIES + INCLUSION_SERIES + ("time_error",)}
     expected.update({"series/tilt": [steps, 2], "series/inclusion_start": [steps, 3]})
     expected.update({f"fields/{key}": [steps, n1, n2] for key in FIELDS})
     box = objects.get("fields/eigenstrain", {}).get("shape")

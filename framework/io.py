@@ -1,12 +1,16 @@
 """Results on disk: HDF5 files that hold everything, and the checkpoints of long runs.
 
-Layout, ``format = 4`` (the file attribute ``format``, an integer raised at
+Layout, ``format = 5`` (the file attribute ``format``, an integer raised at
 every change of layout): file attributes ``framework_version``, ``format``,
 ``configuration`` (JSON of :meth:`Result.configuration`), ``manifest`` (JSON:
-the file's structure, see :mod:`framework.file_layout`) and ``checksum``
-(CRC-32 of the UTF-8 text ``framework_version + "\\n" + configuration + "\\n" +
-manifest``); group ``series`` (one dataset per step series: ``index``, ``time``,
-``load``, ``approach``, ``iterations``, ``residual``, ``success``, ``tilt``);
+the file's structure, see :mod:`framework.file_layout`), the optional
+annotations a sweep passes to :func:`save` (``sweep_point``, the point's JSON,
+and ``sweep_wall_time`` [s]) and ``checksum`` (CRC-32 of the UTF-8 text
+``framework_version + "\\n" + configuration + "\\n" + manifest + "\\n" +
+annotations``, ``annotations`` the JSON object of those present, ``{}``
+without them); group ``series`` (one dataset per step series: ``index``,
+``time``, ``load``, ``approach``, ``iterations``, ``residual``, ``success``,
+``tilt``);
 group ``fields`` (``pressure``, ``displacement``, ``gap``, each ``(steps, n1,
 n2)``, one gzip chunk per step); for a run with inhomogeneities also
 ``series/couplings``, ``series/inclusion_start`` and ``fields/eigenstrain``,
@@ -22,16 +26,30 @@ structure found, so a flipped bit in a name or a dimension is found before any
 data are read; every dataset is chunked and carries HDF5's Fletcher-32
 checksum filter, which HDF5 verifies at every read; and the file is written
 with HDF5's 1.10 file format, whose metadata blocks (superblock, object
-headers, B-trees, heaps) carry HDF5's own checksums. The shapes must agree
-with the configuration's grid. A file that takes data from elsewhere (links,
-external storage, virtual datasets, filters that load plugins) is refused.
-Every failure raises :class:`~framework.errors.FileError` (a
-:class:`ParameterError`) naming the file and what is wrong, on one line. A
+headers, B-trees, heap headers) carry HDF5's own checksums. The texts are
+fixed-length UTF-8 strings, kept in the root's object header under its
+checksum, and nothing is stored as a variable-length string: those live in
+HDF5's global heap, which has no checksum, and a flipped bit in the size of a
+heap collection makes HDF5 2.0 loop forever while it reads the string (format
+4 wrote its texts so). From format 5 on, the type of a text attribute is
+checked before its value is read. (Texts longer than 64 KiB, e.g. the
+configuration of many inhomogeneities, are moved by HDF5 out of the header
+into its dense attribute storage; there only the file's CRC-32 guards their
+bytes, which are read as plain bytes: nothing to hang on.) The shapes must agree with the configuration's grid. A file that takes data from
+elsewhere (links, external storage, virtual datasets, filters that load
+plugins) is refused. Every failure raises :class:`~framework.errors.FileError`
+(a :class:`ParameterError`) naming the file and what is wrong, on one line. A
 scalar (a stepper's time, the next station) is stored as a one-element dataset
 with the attribute ``scalar = 1``, as chunked datasets need a dimension.
 
 Older formats are read, with every check their files have data for:
 
+- format 4 is format 5 with the texts as variable-length strings (in HDF5's
+  global heap: a flipped bit there can hang HDF5 before any check of ours
+  runs; load and save such a file to rewrite it in format 5) and the checksum
+  over ``framework_version + "\\n" + configuration + "\\n" + manifest``; a sweep
+  added ``sweep_point`` and ``sweep_wall_time`` after writing, outside the
+  checksum.
 - format 3 is format 4 without the manifest (its state group lists its
   datasets in the attribute ``keys``; ``series/inclusion_start`` may be
   absent); format 2 is format 3 without the inhomogeneities' datasets (added
@@ -48,7 +66,7 @@ Older formats are read, with every check their files have data for:
   is refused: its format attribute is damaged or forged, and reading it would
   turn its checks off.
 
-A format above 4 was written by a newer framework and is refused.
+A format above 5 was written by a newer framework and is refused.
 
 Arrays are stored as they are in memory: a round trip is exact to the bit.
 Files are written under the temporary name ``{path}.tmp{pid}`` and renamed,
@@ -70,8 +88,11 @@ from . import file_layout
 from .errors import FileError, FrameworkError, ParameterError, UncheckedFileWarning
 from .file_layout import FIELDS, INCLUSION_FIELDS, INCLUSION_SERIES, SERIES  # noqa: F401 (the layout's names)
 
-FORMAT = 4
-READABLE = (1, 2, 3, 4)
+FORMAT = 5
+READABLE = (1, 2, 3, 4, 5)
+#: The first format whose texts are fixed-length strings (none in HDF5's global heap) and whose checksum covers the
+#: annotations.
+FIXED_TEXTS = 5
 #: HDF5's file format written (lowest, highest): 1.10's, whose metadata blocks carry checksums that HDF5
 #: verifies when it reads them (the 1.0 format's have none); HDF5 1.10 (2018) and later read it.
 LIBVER = ("v110", "v110")
@@ -183,9 +204,57 @@ def temporary(path):
     return f"{path}.tmp{os.getpid()}"
 
 
+def _type_name(kind):
+    """An HDF5 datatype (``h5py.h5t.TypeID``) in words: "a fixed-length string", "an integer", ..."""
+    import h5py
+    if isinstance(kind, h5py.h5t.TypeStringID):
+        return "a variable-length string" if kind.is_variable_str() else "a fixed-length string"
+    names = {h5py.h5t.TypeIntegerID: "an integer", h5py.h5t.TypeFloatID: "a float"}
+    return names.get(type(kind), f"of the HDF5 type class {kind.get_class()}")
+
+
 def _checksum(*texts):
     """CRC-32 of the UTF-8 texts joined by newlines (text read from damaged bytes: those bytes)."""
     return zlib.crc32("\n".join(texts).encode("utf-8", "surrogateescape"))
+
+
+def _store_text(attributes, key, text):
+    """``text`` as a fixed-length UTF-8 string attribute: in the object header, under HDF5's checksum.
+
+    A ``str`` attribute would be a variable-length string, kept in HDF5's global heap, which has no checksum (a
+    flipped bit in its collection's size hangs HDF5 2.0 when the string is read).
+    """
+    import h5py
+    data = text.encode("utf-8", "surrogateescape")
+    attributes.create(key, np.array(data, dtype=h5py.string_dtype("utf-8", max(len(data), 1))))
+
+
+def _annotations(annotations):
+    """The annotations :func:`save` writes, checked: ``{"sweep_point": str, "sweep_wall_time": float}`` (either)."""
+    if annotations is None:
+        return {}
+    if not isinstance(annotations, dict) or not set(annotations) <= file_layout.ANNOTATIONS:
+        raise ParameterError(f"annotations must be a dict with some of the keys "
+                             f"{sorted(file_layout.ANNOTATIONS)}, got {annotations!r:.200}")
+    out = {}
+    if "sweep_point" in annotations:
+        point = annotations["sweep_point"]
+        if not isinstance(point, str):
+            raise ParameterError(f"annotations['sweep_point'] must be a str (the point's JSON), got {point!r:.200}")
+        out["sweep_point"] = point
+    if "sweep_wall_time" in annotations:
+        wall_time = annotations["sweep_wall_time"]
+        if not (isinstance(wall_time, (int, float, np.integer, np.floating)) and not isinstance(wall_time, bool)
+                and np.isfinite(wall_time) and wall_time >= 0):
+            raise ParameterError(f"annotations['sweep_wall_time'] must be a finite number of seconds >= 0, got "
+                                 f"{wall_time!r}")
+        out["sweep_wall_time"] = float(wall_time)
+    return out
+
+
+def _annotation_text(annotations):
+    """The checksummed text of the annotations (floats as their shortest exact repr)."""
+    return json.dumps(annotations, sort_keys=True, separators=(",", ":"))
 
 
 def _dataset(group, name, data, **options):
@@ -198,13 +267,17 @@ def _dataset(group, name, data, **options):
         dataset.attrs["scalar"] = 1
 
 
-def save(result, path, state=None, *, name="path"):
+def save(result, path, state=None, *, name="path", annotations=None):
     """Write ``result`` (and a stepper ``state`` for a checkpoint) to the HDF5 file ``path``.
 
+    ``annotations``: ``{"sweep_point": JSON text, "sweep_wall_time": seconds}``
+    (either, or None), written as file attributes under the file's checksum.
     Raises :class:`ParameterError` naming ``name`` when ``path`` is a folder or
-    its folder is missing or not writable (see :func:`check_target`).
+    its folder is missing or not writable (see :func:`check_target`), naming
+    ``annotations`` when they are not such a dict.
     """
     h5py = _h5py()
+    annotations = _annotations(annotations)
     path = check_target(path, name=name)
     writing = temporary(path)
     records = result.records
@@ -212,13 +285,18 @@ def save(result, path, state=None, *, name="path"):
     try:
         with h5py.File(writing, "w", libver=LIBVER) as f:
             f.attrs["format"] = FORMAT
-            f.attrs["framework_version"] = result.version
-            f.attrs["configuration"] = configuration
+            _store_text(f.attrs, "framework_version", result.version)
+            _store_text(f.attrs, "configuration", configuration)
+            if "sweep_point" in annotations:
+                _store_text(f.attrs, "sweep_point", annotations["sweep_point"])
+            if "sweep_wall_time" in annotations:
+                f.attrs["sweep_wall_time"] = annotations["sweep_wall_time"]
             series = f.create_group("series")
             for key in SERIES:
                 values = [getattr(r, key) for r in records]
                 _dataset(series, key, np.array(values, dtype=float if key == "tilt" else None) if values
                          else np.zeros((0, 2) if key == "tilt" else 0))
+            _dataset(series, "time_error", np.array([r.time_error for r in records], dtype=float))  # optional
             fields = f.create_group("fields")
             shape = (len(records),) + tuple(result.grid.shape)
             for key in FIELDS:
@@ -237,8 +315,8 @@ def save(result, path, state=None, *, name="path"):
                 for key, value in state.items():
                     _dataset(group, key, value)
             manifest = file_layout.manifest(file_layout.structure(f, refuse=FileError))
-            f.attrs["manifest"] = manifest
-            f.attrs["checksum"] = _checksum(result.version, configuration, manifest)
+            _store_text(f.attrs, "manifest", manifest)
+            f.attrs["checksum"] = _checksum(result.version, configuration, manifest, _annotation_text(annotations))
         os.replace(writing, path)
     except BaseException:
         with contextlib.suppress(OSError):
@@ -264,10 +342,23 @@ class _Reader:
         return FileError(f"{self.name}: {self.path!r} is damaged or forged: it claims format 1 (written before "
                          f"checksums) but has {what}, which only later formats write; it is not read unchecked")
 
+    def stored_type(self, key):
+        """The HDF5 type of the root's attribute ``key``, from the object header (its value is not read)."""
+        return self.file.attrs.get_id(key).get_type()
+
     def text(self, key):
-        """A text attribute of the root as ``str`` (undecodable bytes kept as surrogates for the checksum)."""
+        """A text attribute of the root as ``str`` (undecodable bytes kept as surrogates for the checksum).
+
+        From format 5 on, its type is checked before its value is read: only a fixed-length string is read, as a
+        variable-length one would be read from HDF5's global heap, which no checksum guards.
+        """
         if key not in self.file.attrs:
             raise self.fail(f"attribute {key!r} of '/' is missing")
+        if self.format >= FIXED_TEXTS:
+            kind = self.stored_type(key)
+            if _type_name(kind) != "a fixed-length string":
+                raise self.fail(f"attribute {key!r} of '/' is {_type_name(kind)}; format {self.format} stores its "
+                                f"texts as fixed-length strings")
         value = self.file.attrs[key]
         if isinstance(value, bytes):
             value = value.decode("utf-8", "surrogateescape")
@@ -275,8 +366,28 @@ class _Reader:
             raise self.fail(f"attribute {key!r} of '/' is not text, got a {type(value).__name__}")
         return value
 
+    def number(self, key, kind):
+        """The root's attribute ``key``, one number of ``kind`` ("an integer" or "a float"), its type checked first."""
+        found = _type_name(self.stored_type(key))
+        if found != kind:
+            raise self.fail(f"attribute {key!r} of '/' is {found}; expected {kind}")
+        value = self.file.attrs[key]
+        if np.shape(value) != ():
+            raise self.fail(f"attribute {key!r} of '/' has the shape {np.shape(value)}; expected one number")
+        return value
+
+    def annotations(self):
+        """The annotations of a file of format 5 or later (checked by the file's checksum), as :func:`save` got them."""
+        out = {}
+        if "sweep_point" in self.file.attrs:
+            out["sweep_point"] = self.text("sweep_point")
+        if "sweep_wall_time" in self.file.attrs:
+            out["sweep_wall_time"] = float(self.number("sweep_wall_time", "a float"))
+        return out
+
     def check_format(self):
-        value = self.file.attrs.get("format")
+        value = self.file.attrs.get("format") if "format" in self.file.attrs \
+            and _type_name(self.stored_type("format")) == "an integer" else None   # no string read unchecked
         if isinstance(value, np.ndarray) and value.shape in ((), (1,)):
             value = value.reshape(-1)[0]
         if not isinstance(value, (int, np.integer)) or isinstance(value, (bool, np.bool_)) or value not in READABLE:
@@ -301,12 +412,17 @@ class _Reader:
         self.check_format()
         file_layout.check_root(self.format, set(f.attrs), self.fail, self.forged)
         version, text = self.text("framework_version"), self.text("configuration")
-        manifest = self.text("manifest") if self.format >= 4 else None
+        texts = {"framework_version": version, "configuration": text}
+        if self.format >= 4:
+            texts["manifest"] = self.text("manifest")
+        annotations = self.annotations() if self.format >= FIXED_TEXTS else None
         if self.format >= 2:
-            stored = f.attrs["checksum"]
-            if _checksum(version, text, *([manifest] if manifest is not None else [])) != stored:
-                raise self.fail("the attributes 'framework_version', 'configuration'"
-                                + (" and 'manifest'" if manifest is not None else "") + " fail their checksum")
+            stored = self.number("checksum", "an integer")
+            if _checksum(*texts.values(), *([] if annotations is None else [_annotation_text(annotations)])) != stored:
+                names = list(texts) + sorted(annotations or ())
+                raise self.fail(f"the attributes {', '.join(map(repr, names[:-1]))} and {names[-1]!r} fail their "
+                                f"checksum")
+        manifest = texts.get("manifest")
         configuration = json.loads(text)
         if not isinstance(configuration, dict):
             raise self.fail(f"its configuration is not a JSON object, got a {type(configuration).__name__}")
@@ -365,6 +481,7 @@ def _records(series, fields):
                        displacement=fields["displacement"][k], gap=fields["gap"][k],
                        iterations=int(series["iterations"][k]), residual=series["residual"][k],
                        success=bool(series["success"][k]), tilt=tuple(series["tilt"][k]),
+                       time_error=float(series["time_error"][k]) if "time_error" in series else float("nan"),
                        **({} if not inclusions else dict(
                            eigenstrain=fields["eigenstrain"][k], inclusion_stress=fields["inclusion_stress"][k],
                            couplings=int(series["couplings"][k]),

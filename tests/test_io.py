@@ -53,12 +53,12 @@ def test_not_a_result_file(tmp_path):
     h5py = pytest.importorskip("h5py")
     with h5py.File(tmp_path / "other.h5", "w") as f:
         f["x"] = np.arange(3.0)
-    with pytest.raises(errors.FileError, match=r"'.*other.h5' is not a result file of format 1, 2, 3 or 4"):
+    with pytest.raises(errors.FileError, match=r"'.*other.h5' is not a result file of format 1, 2, 3, 4 or 5$"):
         fw.load_result(tmp_path / "other.h5")
     with h5py.File(tmp_path / "other.h5", "a") as f:
-        f.attrs["format"] = 5
+        f.attrs["format"] = 6
         f.create_group("series")
-    with pytest.raises(errors.FileError, match=r"format 1, 2, 3 or 4 \(format 5: written by a newer framework\)"):
+    with pytest.raises(errors.FileError, match=r"format 1, 2, 3, 4 or 5 \(format 6: written by a newer framework\)"):
         fw.load_result(tmp_path / "other.h5")
 
 
@@ -151,13 +151,22 @@ def test_a_flipped_byte_is_found_when_read(checkpoint, monkeypatch, flip_byte, d
 
 
 def test_a_changed_configuration_is_found_when_read(checkpoint):
-    """The configuration is an attribute, not a dataset: its own checksum guards it."""
-    data = bytearray(checkpoint.read_bytes())
+    """The configuration is an attribute in the root's object header: HDF5's header checksum guards its bytes in
+    the file, and the file's CRC-32 the text HDF5 was given to write."""
+    h5py = pytest.importorskip("h5py")
+    whole = checkpoint.read_bytes()
+    data = bytearray(whole)
     at = data.index(b'"shape": [21, 21]') + len(b'"shape": [')
     data[at] = ord("3")  # 21 x 21 -> 31 x 21: a valid configuration, for other fields
     checkpoint.write_bytes(bytes(data))
+    with pytest.raises(errors.FileError, match=r"is damaged: \w+Error: .*incorrect metadata checksum"):
+        fw.load_result(checkpoint)
+    checkpoint.write_bytes(whole)
+    with h5py.File(checkpoint, "a") as f:
+        changed = f.attrs["configuration"].replace(b'"shape": [21, 21]', b'"shape": [31, 21]')
+        f.attrs.create("configuration", np.array(changed, dtype=h5py.string_dtype("utf-8", len(changed))))
     with pytest.raises(errors.FileError, match=r"is damaged: the attributes 'framework_version', 'configuration' "
-                                               r"and 'manifest' fail their checksum"):
+                                               r"and 'manifest' fail their checksum$"):
         fw.load_result(checkpoint)
 
 

@@ -4,33 +4,23 @@ The bit-flip campaign flips bits in the names and the metadata of a saved result
 (a static elastic run with one inhomogeneity) and counts each flip as detected (a one-line
 FileError naming the file) or harmless (the file loads equal to the original, array by array).
 By default it flips a deterministic sample of one bit per byte; ``FRAMEWORK_FLIP_CAMPAIGN=full``
-flips every bit of every byte outside the stored numbers (minutes).
+flips every bit of every byte outside the stored numbers (minutes). The loads run in a child process
+(tests/bit_flips.py) under a timeout: a flip that hangs HDF5 fails the test instead of hanging it.
 """
 import json
 import os
-import warnings
 import zlib
 
 import numpy as np
 import pytest
 
 import framework as fw
-from framework import errors, inclusions, io, materials
+from framework import errors, io
+from bit_flips import campaign_flips, flip_in_child, same_records, simulation
 
 h5py = pytest.importorskip("h5py")
 
 FULL = os.environ.get("FRAMEWORK_FLIP_CAMPAIGN") == "full"
-#: Flips of the sampled campaign, per file: bytes of names, and bytes of the other metadata.
-NAME_FLIPS, METADATA_FLIPS = 250, 250
-
-
-def simulation():
-    """A 16 x 16 x 8 grid, a stiff sphere under a spherical indenter, two loads (about 1 s)."""
-    grid = fw.Grid(shape=(16, 16), size=(1e-3, 1e-3), depth=0.5e-3, layers=8)
-    body = inclusions.Ellipsoid(center=(0.0, 0.0, 0.25e-3), semi_axes=(0.2e-3, 0.2e-3, 0.2e-3),
-                                material=materials.Elastic(600e9, 0.25))
-    return fw.Simulation(grid=grid, material=materials.Elastic(200e9, 0.3), indenter=fw.indenters.Sphere(radius=10e-3),
-                         schedule=fw.schedules.Static(load=[20.0, 40.0], times=[1.0, 2.0]), inclusions=[body])
 
 
 @pytest.fixture(scope="module")
@@ -67,20 +57,52 @@ def one_line(caught, path):
     return message
 
 
+def text(value):
+    return value.decode("utf-8", "surrogateescape") if isinstance(value, bytes) else value
+
+
+def set_text(f, key, value):
+    """Write the root attribute ``key`` as format 5 does: a fixed-length UTF-8 string, in the root's header."""
+    data = value.encode("utf-8", "surrogateescape") if isinstance(value, str) else value
+    f.attrs.create(key, np.array(data, dtype=h5py.string_dtype("utf-8", len(data))))
+
+
+def checksum(f):
+    """The CRC-32 the file's format defines (see framework/io.py), computed here from the attributes found."""
+    texts = [text(f.attrs[key]) for key in ("framework_version", "configuration")]
+    texts += [text(f.attrs["manifest"])] if f.attrs["format"] >= 4 else []
+    if f.attrs["format"] >= 5:
+        annotations = {key: text(f.attrs[key]) if key == "sweep_point" else float(f.attrs[key])
+                       for key in ("sweep_point", "sweep_wall_time") if key in f.attrs}
+        texts.append(json.dumps(annotations, sort_keys=True, separators=(",", ":")))
+    return zlib.crc32("\n".join(texts).encode("utf-8", "surrogateescape"))
+
+
 def rewrite_checksum(path):
     """Sign ``path`` again after an edit, as a forger would: the checksum then passes."""
     with h5py.File(path, "a") as f:
-        texts = [f.attrs["framework_version"], f.attrs["configuration"]] + \
-            ([f.attrs["manifest"]] if f.attrs["format"] >= 4 else [])
-        f.attrs["checksum"] = zlib.crc32("\n".join(texts).encode())
+        f.attrs["checksum"] = checksum(f)
 
 
 def resign(path):
     """Rewrite the manifest and the checksum after an edit of the structure: only the other checks can object."""
     from framework import file_layout
     with h5py.File(path, "a") as f:
-        f.attrs["manifest"] = file_layout.manifest(file_layout.structure(f, refuse=AssertionError))
+        set_text(f, "manifest", file_layout.manifest(file_layout.structure(f, refuse=AssertionError)))
     rewrite_checksum(path)
+
+
+def to_format_4(path):
+    """Rewrite a file of format 5 as format 4 wrote it (framework/io.py at 4d07b09): the texts as variable-length
+    strings, in HDF5's global heap, and the checksum without the annotations (which stay, outside it)."""
+    with h5py.File(path, "a") as f:
+        for key in ("framework_version", "configuration", "manifest", "sweep_point"):
+            if key in f.attrs:
+                value = text(f.attrs[key])
+                del f.attrs[key]
+                f.attrs[key] = value      # a str: a variable-length string
+        f.attrs["format"] = 4
+        f.attrs["checksum"] = checksum(f)
 
 
 # --------------------------------------------------------------------------- names and the manifest
@@ -98,7 +120,7 @@ def test_a_renamed_dataset_is_refused_not_dropped(copy):
         "in its manifest (the structure found differs from the one its manifest lists)")
     resign(path)   # a manifest of the renamed file: the format's own list of names refuses it
     with pytest.raises(errors.FileError, match=r"is damaged: it holds 'series/inclusion_stbrt', which no result "
-                                               r"file of format 4 has$"):
+                                               r"file of format 5 has$"):
         fw.load_result(path)
 
 
@@ -115,13 +137,13 @@ def test_a_flipped_bit_in_a_name_fails_hdf5s_header_checksum(copy):
 
 @pytest.mark.parametrize("edit, message", [
     (lambda f: f["series/time"].attrs.create("unit", "s"),
-     r"'series/time' has the attribute\(s\) 'unit', which no file of format 4 has"),
+     r"'series/time' has the attribute\(s\) 'unit', which no file of format 5 has"),
     (lambda f: f["series"].create_dataset("extra", data=np.zeros(3)),
-     r"it holds 'series/extra', which no result file of format 4 has"),
-    (lambda f: f.create_group("more"), r"it holds 'more', which no result file of format 4 has"),
+     r"it holds 'series/extra', which no result file of format 5 has"),
+    (lambda f: f.create_group("more"), r"it holds 'more', which no result file of format 5 has"),
     (lambda f: f["state/station"].attrs.modify("scalar", 2), r"'state/station' has the attribute 'scalar' = 2"),
     (lambda f: f.attrs.create("comment", "x"),
-     r"it has the file attribute\(s\) 'comment', which no file of format 4 has"),
+     r"it has the file attribute\(s\) 'comment', which no file of format 5 has"),
 ])
 def test_what_no_format_writes_is_refused(copy, edit, message):
     path = copy("c.h5")
@@ -133,12 +155,56 @@ def test_what_no_format_writes_is_refused(copy, edit, message):
     one_line(caught, path)
 
 
-def test_the_attributes_a_sweep_adds_are_allowed(copy, files):
+def test_a_sweeps_annotations_are_written_under_the_checksum(files, copy, tmp_path):
+    """Format 5: ``save`` writes ``sweep_point`` and ``sweep_wall_time`` under the file's CRC-32; format 4 files had
+    them added after writing, outside it, and still load."""
+    result = files[1]
+    path = tmp_path / "point.h5"
+    io.save(result, path, annotations={"sweep_point": '{"load": 20.0}', "sweep_wall_time": 1.5})
+    with h5py.File(path, "r") as f:
+        assert f.attrs["sweep_point"] == b'{"load": 20.0}' and f.attrs["sweep_wall_time"] == 1.5
+        expected = "\n".join([result.version, json.dumps(result.configuration()), text(f.attrs["manifest"]),
+                              '{"sweep_point":"{\\"load\\": 20.0}","sweep_wall_time":1.5}'])
+        assert f.attrs["checksum"] == zlib.crc32(expected.encode())
+    assert same_records(fw.load_result(path).records, result.records)
+    whole = path.read_bytes()
+    for key, value in (("sweep_point", '{"load": 40.0}'), ("sweep_wall_time", 1.25)):
+        path.write_bytes(whole)
+        with h5py.File(path, "a") as f:   # changed behind the checksum's back (HDF5 rewrites its header checksum)
+            set_text(f, key, value) if key == "sweep_point" else f.attrs.modify(key, value)
+        with pytest.raises(errors.FileError, match=r"is damaged: the attributes 'framework_version', 'configuration', "
+                                                   r"'manifest', 'sweep_point' and 'sweep_wall_time' fail their "
+                                                   r"checksum$") as caught:
+            fw.load_result(path)
+        one_line(caught, path)
     path = copy("r.h5")
+    with h5py.File(path, "a") as f:   # added after writing, as sweeps did before format 5
+        set_text(f, "sweep_point", '{"load": 20.0}')
+    with pytest.raises(errors.FileError, match=r"the attributes 'framework_version', 'configuration', 'manifest' and "
+                                               r"'sweep_point' fail their checksum$"):
+        fw.load_result(path)
+    path = copy("r.h5")
+    to_format_4(path)
     with h5py.File(path, "a") as f:
         f.attrs["sweep_point"] = json.dumps({"load": 20.0})
         f.attrs["sweep_wall_time"] = 1.5
-    assert same_records(fw.load_result(path).records, files[1].records)
+    assert same_records(fw.load_result(path).records, result.records)
+
+
+@pytest.mark.parametrize("annotations, message", [
+    ({"sweep_pont": "{}"}, r"annotations must be a dict with some of the keys \['sweep_point', 'sweep_wall_time'\], "
+                           r"got \{'sweep_pont': '\{\}'\}"),
+    ("{}", r"annotations must be a dict with some of the keys .*, got '\{\}'"),
+    ({"sweep_point": {"load": 1.0}}, r"annotations\['sweep_point'\] must be a str \(the point's JSON\), got "
+                                     r"\{'load': 1.0\}"),
+    ({"sweep_wall_time": -1.0}, r"annotations\['sweep_wall_time'\] must be a finite number of seconds >= 0, got -1.0"),
+    ({"sweep_wall_time": float("nan")}, r"annotations\['sweep_wall_time'\] must be .*, got nan"),
+    ({"sweep_wall_time": "1.5"}, r"annotations\['sweep_wall_time'\] must be .*, got '1.5'"),
+])
+def test_bad_annotations_are_refused_before_writing(files, tmp_path, annotations, message):
+    with pytest.raises(errors.ParameterError, match=message):
+        io.save(files[1], tmp_path / "point.h5", annotations=annotations)
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_the_manifest_records_names_shapes_dtypes_attributes_and_optional_datasets(copy):
@@ -165,12 +231,25 @@ def test_the_manifest_records_names_shapes_dtypes_attributes_and_optional_datase
 
 
 def test_undecodable_metadata_is_a_checksum_failure_not_a_unicode_error(copy):
-    """A flipped high bit in the configuration's text made ``io._checksum`` raise UnicodeEncodeError."""
+    """A flipped high bit in the configuration's text made ``io._checksum`` raise UnicodeEncodeError.
+
+    In the file, the root's object header checksum (HDF5's) finds such a flip first; written through HDF5, as a
+    bit flipped in memory before the write would be, only the file's own CRC-32 can.
+    """
     path = copy("c.h5")
-    data = bytearray(path.read_bytes())
-    at = data.index(b'"grid"') + 2
-    data[at] ^= 0x80
+    whole = path.read_bytes()
+    data = bytearray(whole)
+    data[data.index(b'"grid"') + 2] ^= 0x80
     path.write_bytes(bytes(data))
+    with pytest.raises(errors.FileError, match=r"^path: .* is damaged: \w+Error: .*incorrect metadata "
+                                               r"checksum") as caught:
+        fw.load_result(path)
+    one_line(caught, path)
+    path.write_bytes(whole)
+    with h5py.File(path, "a") as f:
+        configuration = bytearray(f.attrs["configuration"])
+        configuration[configuration.index(b'"grid"') + 2] ^= 0x80
+        set_text(f, "configuration", bytes(configuration))
     for load, name in ((fw.load_result, "path"), (lambda p: simulation().run(resume=p), "resume")):
         with pytest.raises(errors.FileError, match=rf"^{name}: .* is damaged: the attributes 'framework_version', "
                                                    r"'configuration' and 'manifest' fail their checksum$") as caught:
@@ -214,10 +293,12 @@ def test_cli_resume_from_a_damaged_checkpoint_prints_one_line(tmp_path, capsys):
     (tmp_path / "s.toml").write_text(SCENARIO)
     command = ["run", str(tmp_path / "s.toml"), "--out", str(tmp_path / "out"), "--quiet"]
     assert main(command) == 0
-    data = bytearray((tmp_path / "out" / "result.h5").read_bytes())
-    at = data.index(b'"material"') + 3
-    data[at] ^= 0x80   # an undecodable byte in the configuration
-    (tmp_path / "out" / "checkpoint.h5").write_bytes(bytes(data))
+    checkpoint = tmp_path / "out" / "checkpoint.h5"
+    checkpoint.write_bytes((tmp_path / "out" / "result.h5").read_bytes())
+    with h5py.File(checkpoint, "a") as f:   # an undecodable byte in the configuration
+        configuration = bytearray(f.attrs["configuration"])
+        configuration[configuration.index(b'"material"') + 3] ^= 0x80
+        set_text(f, "configuration", bytes(configuration))
     capsys.readouterr()
     assert main(command + ["--resume"]) == 2
     error = capsys.readouterr().err
@@ -355,6 +436,33 @@ def test_format_3_files_load_and_their_names_are_checked(files, tmp_path):
         io.read(path, name="resume")
 
 
+def test_format_4_files_load_and_keep_their_checks(files, copy):
+    """Format 4 wrote its texts as variable-length strings and its checksum without the annotations."""
+    sim, result, folder = files
+    path = copy("c.h5")
+    to_format_4(path)
+    with h5py.File(path, "r") as f:
+        assert f.attrs.get_id("configuration").get_type().is_variable_str() and b"GCOL" in path.read_bytes()
+    _, records, state = io.read(path, name="resume")
+    _, _, original = io.read(folder / "c.h5", name="resume")
+    assert same_records(records, result.records) and list(state) == list(original)
+    assert same_records(sim.run(resume=path).records, result.records)
+    with h5py.File(path, "a") as f:
+        f.move("series/inclusion_start", "series/inclusion_stbrt")
+    with pytest.raises(errors.FileError, match=r"dataset 'series/inclusion_start' is missing; it holds "
+                                               r"'series/inclusion_stbrt', which is not in its manifest"):
+        io.read(path)
+    path = copy("r.h5")
+    to_format_4(path)
+    with h5py.File(path, "a") as f:
+        f.attrs["format"] = 5     # format 5 reads no variable-length string: not even to check it
+    with pytest.raises(errors.FileError, match=r"^path: .* is damaged: attribute 'framework_version' of '/' is a "
+                                               r"variable-length string; format 5 stores its texts as fixed-length "
+                                               r"strings$") as caught:
+        fw.load_result(path)
+    one_line(caught, path)
+
+
 # --------------------------------------------------------------------------- shapes against the configuration
 
 
@@ -363,7 +471,7 @@ def test_a_grid_shape_that_does_not_match_the_fields_is_refused_on_load(copy):
     with h5py.File(path, "a") as f:
         configuration = json.loads(f.attrs["configuration"])
         configuration["grid"]["shape"] = [31, 16]
-        f.attrs["configuration"] = json.dumps(configuration)
+        set_text(f, "configuration", json.dumps(configuration))
     rewrite_checksum(path)
     with pytest.raises(errors.FileError, match=r"^path: .* is damaged: dataset 'fields/eigenstrain' has shape "
                                                r"\(2, \d+, \d+, \d+, 6\); expected \(steps, m1, m2, m3, 6\) with a box "
@@ -394,7 +502,7 @@ def test_fields_and_boxes_that_do_not_fit_are_refused(copy):
     with h5py.File(path, "a") as f:
         configuration = json.loads(f.attrs["configuration"])
         configuration["inclusions"]["inclusions"][0]["semi_axes"] = [0.15e-3] * 3
-        f.attrs["configuration"] = json.dumps(configuration)
+        set_text(f, "configuration", json.dumps(configuration))
     rewrite_checksum(path)
     with pytest.raises(errors.FileError, match=r"step 0: its eigenstrains have shape \(\d+, \d+, \d+, 6\); the "
                                                r"configuration's box around the inhomogeneities needs"):
@@ -408,117 +516,52 @@ def test_fields_and_boxes_that_do_not_fit_are_refused(copy):
 
 # --------------------------------------------------------------------------- the bit-flip campaign
 
-
-def stored_numbers(path):
-    """Byte ranges of the datasets' stored data (their chunks): what Fletcher-32 guards."""
-    ranges = []
-    with h5py.File(path, "r") as f:
-        def visit(name, item):
-            if isinstance(item, h5py.Dataset):
-                for k in range(item.id.get_num_chunks()):
-                    info = item.id.get_chunk_info(k)
-                    ranges.append((info.byte_offset, info.byte_offset + info.size))
-        f.visititems(visit)
-    return ranges
-
-
-def regions(path):
-    """``(names, metadata)``: offsets of the bytes of every group, dataset and attribute name, and of every other
-    byte outside the stored numbers (superblock, object headers, B-trees, heaps, the attributes' text)."""
-    whole = path.read_bytes()
-    numbers = np.zeros(len(whole), bool)
-    for start, stop in stored_numbers(path):
-        numbers[start:stop] = True
-    labels = set()
-    with h5py.File(path, "r") as f:
-        labels.update(f.attrs)
-        f.visititems(lambda name, item: labels.update(name.split("/")) or labels.update(item.attrs))
-    names = set()
-    for label in labels:
-        start = whole.find(label.encode())
-        while start >= 0:
-            names.update(range(start, start + len(label)))
-            start = whole.find(label.encode(), start + 1)
-    names = np.array(sorted(at for at in names if not numbers[at]), dtype=int)
-    metadata = np.setdiff1d(np.flatnonzero(~numbers), names)
-    return names, metadata
-
-
-def sample(offsets, count):
-    """``(offset, bit)`` pairs: every bit of every offset (full campaign), else ``count`` offsets evenly spread,
-    one bit each, the bit turning with the offset's rank."""
-    if FULL:
-        return [(int(at), bit) for at in offsets for bit in range(8)]
-    chosen = offsets[np.unique(np.linspace(0, len(offsets) - 1, min(count, len(offsets))).astype(int))]
-    return [(int(at), rank % 8) for rank, at in enumerate(chosen)]
-
-
-def same_arrays(a, b):
-    a, b = np.asarray(a), np.asarray(b)
-    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
-
-
-def same_records(first, second):
-    return len(first) == len(second) and all(
-        same_arrays(getattr(a, key), getattr(b, key)) for a, b in zip(first, second)
-        for key in a.__dataclass_fields__)
-
-
-def campaign(path, load, equal):
-    """Flip each sampled bit of ``path`` in turn; returns ``(tried, detected, harmless, failures)``."""
-    whole = path.read_bytes()
-    names, metadata = regions(path)
-    target = path.parent / ("flipped-" + path.name)
-    tried = detected = harmless = 0
-    failures = []
-    for offset, bit in sample(names, NAME_FLIPS) + sample(metadata, METADATA_FLIPS):
-        data = bytearray(whole)
-        data[offset] ^= 1 << bit
-        target.write_bytes(bytes(data))
-        tried += 1
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("error")    # a warning (format 1, ...) would be a failure
-                loaded = load(target)
-        except errors.FrameworkError as exc:
-            message = str(exc)
-            if isinstance(exc, errors.FileError) and "\n" not in message and repr(str(target)) in message:
-                detected += 1
-            else:
-                failures.append((offset, bit, f"{type(exc).__name__}: {message}"))
-        except Exception as exc:  # noqa: BLE001 - a raw error is what the campaign looks for
-            failures.append((offset, bit, f"{type(exc).__name__}: {exc}"))
-        else:
-            if equal(loaded):
-                harmless += 1
-            else:
-                failures.append((offset, bit, "loaded, and differs from the original"))
-    return tried, detected, harmless, failures
+#: Seconds a child process of the campaign may take (about 10 s on 2 busy cores); a hang fails the test.
+CAMPAIGN_TIMEOUT = 300
+#: The flip of a saved result of format 4 that hung HDF5 2.0: the lowest byte of the size of the global heap's
+#: collection (signature GCOL at 2048, version, 3 reserved bytes, then the size, 4096), bit 5: 4096 -> 4128.
+HUNG = (2048 + 8, 5)
 
 
 def test_bit_flip_campaign_over_names_and_metadata(files):
     """Every flip of a name's or a metadata byte's bit is detected in one line or loads equal to the original."""
-    sim, result, folder = files
-    configuration, records, state = io.read(folder / "c.h5")
-
-    def equal_result(loaded):
-        return loaded.configuration() == result.configuration() and same_records(loaded.records, result.records)
-
-    def resume(path):
-        resumed = sim.run(resume=path)   # the run is finished: nothing is solved
-        return resumed, io.read(path, name="resume")
-
-    def equal_checkpoint(loaded):
-        resumed, (again, stored, kept) = loaded
-        return same_records(resumed.records, result.records) and again == configuration \
-            and same_records(stored, records) and list(kept) == list(state) \
-            and all(same_arrays(kept[key], state[key]) for key in state)
-
+    folder = files[2]
     report = []
-    for name, load, equal in (("r.h5", fw.load_result, equal_result), ("c.h5", resume, equal_checkpoint)):
-        tried, detected, harmless, failures = campaign(folder / name, load, equal)
+    for name, kind in (("r.h5", "result"), ("c.h5", "checkpoint")):
+        flips = campaign_flips(folder / name, full=FULL)
+        tried, detected, harmless, failures = flip_in_child(folder / name, kind, flips,
+                                                            timeout=CAMPAIGN_TIMEOUT * (100 if FULL else 1))
         report.append(f"{name}: {tried} flips, {detected} detected, {harmless} harmless")
         assert failures == [], f"{name}: {len(failures)} of {tried} flips neither detected nor harmless, e.g. " \
                                f"{failures[:5]}"
-        assert tried == detected + harmless and detected > harmless
+        assert tried == detected + harmless == len(flips) and detected > harmless
     print("bit-flip campaign" + (" (full)" if FULL else "") + ": " + "; ".join(report))
+
+
+def test_the_flip_that_hung_hdf5_reading_format_4_is_found_in_format_5(files, copy):
+    """Format 4's texts were variable-length strings in HDF5's global heap, which has no checksum: flipping bit 5 of
+    its collection's size (:data:`HUNG`) made HDF5 2.0 loop forever reading the configuration. Format 5 keeps its
+    texts in the root's header and writes no global heap: that flip, and every bit of the 16 bytes that held the
+    collection's header, end in one line or load unchanged, in a child process that a hang would time out."""
+    folder = files[2]
+    assert b"GCOL" not in (folder / "r.h5").read_bytes() + (folder / "c.h5").read_bytes()
+    flips = [HUNG] + [(at, bit) for at in range(HUNG[0] - 8, HUNG[0] + 8) for bit in range(8)]
+    for name, kind in (("r.h5", "result"), ("c.h5", "checkpoint")):
+        tried, detected, harmless, failures = flip_in_child(folder / name, kind, flips, timeout=CAMPAIGN_TIMEOUT)
+        assert failures == [] and tried == detected + harmless == len(flips), failures[:5]
+
+
+@pytest.mark.slow
+def test_a_flip_that_hangs_hdf5_fails_the_campaign_instead_of_hanging_it(files, tmp_path):
+    """The watchdog at work, on the flip that hangs HDF5 2.0 in a saved result of format 4 (drop this test once
+    HDF5 no longer hangs there: the flip would then be detected)."""
+    from unittest import mock
+    path = tmp_path / "r.h5"
+    with mock.patch.object(io, "FORMAT", 4), \
+            mock.patch.object(io, "_store_text", lambda attributes, key, value: attributes.__setitem__(key, value)):
+        io.save(files[1], path)    # as format 4 wrote it: its texts as str, variable-length strings
+    rewrite_checksum(path)
+    assert path.read_bytes().index(b"GCOL") == HUNG[0] - 8
+    assert flip_in_child(path, "result", [HUNG], timeout=10) == (1, 0, 0, [(*HUNG, "hangs (still loading after "
+                                                                                   "the 10 s allowed)")])
+    assert os.listdir(tmp_path) == ["r.h5"]

@@ -33,7 +33,7 @@ POINTS = [{"indenter.radius": 5e-3, "material.young": 70e9}, {"indenter.radius":
 
 
 def test_result_files_are_available():
-    """Sweeps save each point with Result.save and read reruns with framework.load_result."""
+    """Sweeps save each point with framework.io.save (what Result.save calls) and read reruns with load_result."""
     assert hasattr(Result, "save") and hasattr(fw, "load_result")
 
 
@@ -239,16 +239,34 @@ def test_a_killed_point_leaves_no_half_file(tmp_path, monkeypatch):
     row = sw.run_point(builder, point, str(tmp_path), name)
     assert row["status"] == "done" and os.listdir(tmp_path) == [name]
 
-    def broken_save(self, path):
+    def broken_save(result, path, state=None, **options):
         with open(path, "wb") as f:
             f.write(b"half a file")
         raise OSError("disk full")
 
-    monkeypatch.setattr(Result, "save", broken_save)
+    monkeypatch.setattr("framework.io.save", broken_save)
     row = sw.run_point(builder, point, str(tmp_path / "other"), name)
     assert row == {"status": "failed", "error": "OSError: disk full", "file": "", "wall_time": None, "steps": None,
                    "series": {}}
     assert os.listdir(tmp_path / "other") == []
+
+
+def test_a_point_file_holds_its_point_and_wall_time_under_its_checksum(tmp_path):
+    """Written by framework.io.save as fixed-length attributes under the file's CRC-32 (once added after writing,
+    as variable-length strings in HDF5's unchecksummed global heap)."""
+    h5py = pytest.importorskip("h5py")
+    point = {"indenter.radius": 5e-3}
+    row = sw.run_point(sw.ScenarioBuilder(BASE), point, str(tmp_path), sw.point_file(0, point))
+    with h5py.File(row["file"], "r") as f:
+        assert f.attrs["sweep_point"] == b'{"indenter.radius": 0.005}' and f.attrs["format"] == 5
+        assert not f.attrs.get_id("sweep_point").get_type().is_variable_str()
+        assert f.attrs["sweep_wall_time"] == row["wall_time"] > 0
+    assert sw.read_point(row["file"])["wall_time"] == row["wall_time"]
+    with h5py.File(row["file"], "a") as f:
+        f.attrs.modify("sweep_wall_time", 2 * row["wall_time"])
+    with pytest.raises(fw.errors.FileError, match=r"the attributes 'framework_version', 'configuration', 'manifest', "
+                                                  r"'sweep_point' and 'sweep_wall_time' fail their checksum$"):
+        sw.read_point(row["file"])
 
 
 def test_a_point_that_kills_its_worker_fails_once_on_a_local_cluster(tmp_path):

@@ -6,6 +6,7 @@ import re
 import time
 import uuid
 
+from .. import io
 from ..errors import ParameterError
 from .points import plain
 
@@ -45,23 +46,14 @@ def remove_partials(folder, stem=r"point_\d+_[0-9a-f]{8}"):
                     os.remove(os.path.join(folder, entry))
 
 
-def _stamp(path, point, wall_time):
-    """Record the point and its wall time in the file's attributes (best effort)."""
-    try:
-        import h5py
-        with h5py.File(path, "a") as f:
-            f.attrs["sweep_point"] = json.dumps(plain(point), sort_keys=True, default=repr)
-            f.attrs["sweep_wall_time"] = wall_time
-    except Exception:  # noqa: BLE001 - metadata only; the result itself is written
-        pass
-
-
 def run_point(build, point, folder, name):
     """Build, run and save one point; never raises (a failure is returned as a row).
 
     Returns ``{"status", "error", "file", "wall_time", "steps", "series"}``
-    with ``series`` the last step's value of every summary series. The file is
-    written to a hidden temporary name and renamed when complete.
+    with ``series`` the last step's value of every summary series. The file
+    (:func:`framework.io.save`, with the point's JSON and the wall time of its
+    run as the annotations ``sweep_point`` and ``sweep_wall_time``) is written
+    to a hidden temporary name and renamed when complete.
     """
     from ..simulation import Simulation
     path = os.path.join(folder, name)
@@ -77,9 +69,9 @@ def run_point(build, point, folder, name):
         wall_time = time.perf_counter() - start
         os.makedirs(folder, exist_ok=True)
         remove_partials(folder, re.escape(stem))  # left by a killed run of this point (e.g. a worker that died)
-        try:
-            result.save(temporary)
-            _stamp(temporary, point, wall_time)
+        try:   # the point and its wall time under the file's checksum (framework.io, format 5)
+            io.save(result, temporary, annotations={
+                "sweep_point": json.dumps(plain(point), sort_keys=True, default=repr), "sweep_wall_time": wall_time})
             os.replace(temporary, path)
         finally:
             remove_partials(folder, re.escape(stem))  # ours, and any of Result.save's own, if it failed
