@@ -175,8 +175,9 @@ def sweep(build, parameters, client=None, folder=None, *, outputs=None, progress
     Files
     -----
     ``folder/point_<index:04d>_<hash>.h5``: each point's full result
-    (:meth:`Result.save`, plus the attributes ``sweep_point`` and
-    ``sweep_wall_time``), written under a hidden temporary name and renamed
+    (:meth:`Result.save`'s file, with the point's JSON and the wall time of
+    its run as the attributes ``sweep_point`` and ``sweep_wall_time`` under
+    the file's checksum), written under a hidden temporary name and renamed
     when complete, so a killed sweep leaves no half file: rerun it and the
     points with a file are skipped. The hash is of the point's values only: a
     changed ``build`` or base scenario is not detected, use a new folder.
