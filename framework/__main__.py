@@ -16,17 +16,21 @@ Every bad input (scenario file, argument, output folder) is one line
 validates everything ``run`` needs: the file, the packages its outputs need
 (a missing one is named with the command that installs it), and the memory
 the run will take, refused above this machine's (it prints the estimate of
-memory, time and file size, and warns above half the memory). A sweep file
+memory, time and file size, and warns above half the memory), and the
+resolution: one ``warning:`` line for each body, contact or rolling wake the
+run would warn of (:mod:`framework.resolution`; contact and wakes estimated
+from Hertz where the indenter and load allow, else not told). A sweep file
 is checked point by point. Steps are numbered from 0 everywhere, as in the
 file names (``surface_0000.vtu``).
 """
 import argparse
 import os
 import sys
+import warnings
 
-from . import resources
+from . import resolution, resources
 from ._arguments import Parser, integer
-from .errors import FrameworkError
+from .errors import FrameworkError, ResolutionWarning
 from .scenario import check_path
 from .scenario_run import describe_files, preflight, print_table, run_scenario, size_text
 
@@ -75,16 +79,29 @@ def check(path, cells=None):
         if cells is not None:
             raise FrameworkError(f"--cells: replaces the grid of a scenario file; {path} is a sweep file, whose "
                                  f"points are checked as they will run")
-        _, _, _, lines = sweeps.check(path)
+        with warnings.catch_warnings(record=True) as caught:   # each point's body warnings, one line each
+            warnings.simplefilter("always", ResolutionWarning)
+            _, _, _, lines = sweeps.check(path)
+        told = []
+        for caught_warning in caught:
+            if not issubclass(caught_warning.category, ResolutionWarning):
+                warnings.warn_explicit(caught_warning.message, caught_warning.category, caught_warning.filename,
+                                       caught_warning.lineno)
+            elif str(caught_warning.message) not in told:
+                told.append(str(caught_warning.message))
+        lines = list(lines) + [f"warning: {path}: {message}" for message in told]
     else:
         memory = resources.machine_memory()
-        scenario = scenarios.read(path, cells=cells, memory=memory)
+        with warnings.catch_warnings():   # told below, one line each, with the estimated ones
+            warnings.simplefilter("ignore", ResolutionWarning)
+            scenario = scenarios.read(path, cells=cells, memory=memory)
         estimate, warning = preflight(scenario, memory=memory)
         simulation = scenario.simulation
         lines = [f"{path}: ok ({len(simulation.output_times)} steps on a {simulation.grid.shape} grid)",
                  f"estimate: {estimate.describe(memory)}"]
         if warning:
             lines.append(f"warning: {path}: {warning}")
+        lines += [f"warning: {path}: {message}" for message in resolution.preview_messages(simulation)]
     for line in lines:
         print(line, file=sys.stderr if line.startswith("warning:") else sys.stdout)
     return 0

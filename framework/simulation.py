@@ -17,14 +17,13 @@ and, for a transient rolling run, one step per cell of motion. Its options are
 on a box around the contact (:mod:`framework.boxed_solve`).
 """
 import sys
-import warnings
 
 import numpy as np
 
-from . import boxed_solve, schedules
+from . import boxed_solve, resolution, schedules
 from . import stations as stations_module
 from ._validation import check_bool, check_positive_int
-from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError, ResolutionWarning
+from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
 from .history import HereditarySum, PronyRecursion, SteadyMemory
 from .indenters import Indenter
@@ -32,6 +31,7 @@ from .operators.rolling import SteadyRollingCompliance, check_steady
 from .operators.stiffness import SurfaceStiffness
 from .operators.surface import SurfaceCompliance
 from .options import Options
+from .resolution import MIN_CELLS_PER_RADIUS  # noqa: F401 (kept importable from here)
 from .result import Result, StepRecord
 from .stations import MAX_STATIONS, Station  # noqa: F401 (MAX_STATIONS: named in the docstrings, kept importable)
 from .solver import SolverOptions, solve_normal
@@ -114,6 +114,7 @@ class Simulation:
                                      "(the contact changes as the body passes it); roll over it in a transient run "
                                      "(steady=False, with a distance)")
             travel = [station.shift for station in self._timeline]
+        resolution.check_bodies(self.grid, inclusions, stacklevel=3)
         self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions,
                                                    margin=self.options.inclusion_margin, travel=travel)
         return inclusions
@@ -352,7 +353,7 @@ class Simulation:
         finally:
             if progress and end == "\r":
                 print()
-        _check_resolution(result)
+        resolution.check_result(result, stacklevel=2)
         return result
 
     def _resume(self, path, result):
@@ -379,33 +380,6 @@ class Simulation:
         if state is None or int(state["station"]) >= len(self._timeline):
             return None
         return state
-
-
-#: A contact narrower than this many cells (radius, or half-width of a line contact) is warned of
-#: (:class:`ResolutionWarning`). Measured, Hertz (elastic sphere, open grid): the peak pressure is 12 % high at 1
-#: cell per radius, 2.6 % at 2, 1.1 % at 3, 0.6 % at 4, 0.2 % at 6 (``tests/test_silent_results.py``).
-MIN_CELLS_PER_RADIUS = 4
-
-
-def _check_resolution(result):
-    """Warn (:class:`ResolutionWarning`) when a recorded contact spans fewer than :data:`MIN_CELLS_PER_RADIUS`."""
-    if not len(result):
-        return
-    line = result.line_contact
-    sizes = np.asarray(result.half_width if line else result.contact_radius, dtype=float)
-    grid = result.grid
-    cell = grid.spacing[1 if grid.periodic[0] else 0] if line else min(grid.spacing)
-    touching = sizes > 0
-    if not touching.any():
-        return
-    k = int(np.flatnonzero(touching)[np.argmin(sizes[touching])])
-    if sizes[k] < MIN_CELLS_PER_RADIUS * cell:
-        what = "half-width" if line else "contact radius"
-        warnings.warn(ResolutionWarning(
-            f"the {what} at step {k} is {sizes[k]:.4g} m, {sizes[k] / cell:.2g} cells of {cell:.4g} m: a contact "
-            f"resolved by fewer than {MIN_CELLS_PER_RADIUS} cells per {what} has its peak pressure off by 1 % or "
-            f"more (12 % at one cell); refine the grid (cells of {sizes[k] / MIN_CELLS_PER_RADIUS:.3g} "
-            f"m or smaller) or shrink it around the contact"), stacklevel=3)
 
 
 class _Predictor:

@@ -376,6 +376,8 @@ def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, 
     if np.max(np.abs(applied)) > LARGEST_STRAIN:
         raise ParameterError(f"applied_strain must be small, every component at most {LARGEST_STRAIN:g} in magnitude "
                              f"(linear elasticity), got a largest component of {float(np.max(np.abs(applied))):g}")
+    from ..resolution import check_bodies
     problem = InclusionProblem(grid, matrix, inclusions, margin=margin, geometry=geometry)
+    check_bodies(grid, inclusions, stacklevel=2)   # after the problem's own checks: only for bodies it accepts
     solution = problem.problem.solve(applied, tolerance=tolerance)
     return InclusionSolution(problem, applied, solution)
