@@ -5,7 +5,12 @@ from ._validation import check_bool, check_quantity, check_real
 from .errors import ParameterError
 from .solver import SolverOptions
 
-__all__ = ["Options"]
+__all__ = ["DEFAULT_TIME_TOLERANCE", "Options"]
+
+#: The default ``Options.time_tolerance``.
+DEFAULT_TIME_TOLERANCE = 1e-3
+#: The range of ``Options.time_tolerance``: tighter than 1e-8 the contact solver's own tolerance is the error.
+TIME_TOLERANCES = (1e-8, 0.1)
 
 
 @dataclass(frozen=True)
@@ -29,6 +34,14 @@ class Options:
     coupling_tolerance : float
         Relative change of the inhomogeneities' surface displacement at which a
         step's contact and eigenstrains count as converged together.
+    time_tolerance : float or None
+        Largest estimated time-stepping error of a material with memory,
+        relative to the run's pressure and approach scale, in [1e-8, 0.1]: between two output times the run
+        takes as many steps as it needs (:mod:`framework.time_error`), and
+        records only the output times. None: one step per output time (and
+        per jump, kink and ``resolution`` step of the load history), as
+        before; the error is estimated all the same (``Result.time_error``).
+        A transient rolling run moves one cell per step whatever it is.
     """
 
     solver: SolverOptions = field(default_factory=SolverOptions)
@@ -36,6 +49,7 @@ class Options:
     history: str = "recursive"
     inclusion_margin: float = None
     coupling_tolerance: float = 1e-8
+    time_tolerance: float = DEFAULT_TIME_TOLERANCE
 
     def __post_init__(self):
         if not isinstance(self.solver, SolverOptions):
@@ -50,6 +64,14 @@ class Options:
         if not 1e-14 <= tolerance < 1:
             raise ParameterError(f"coupling_tolerance must lie in [1e-14, 1) (a relative change), got {tolerance!r}")
         object.__setattr__(self, "coupling_tolerance", tolerance)
+        if self.time_tolerance is not None:
+            value = check_real(self.time_tolerance, name="time_tolerance")
+            low, high = TIME_TOLERANCES
+            if not low <= value <= high:
+                raise ParameterError(f"time_tolerance must lie in [{low:g}, {high:g}] (the time-stepping error "
+                                     f"relative to the pressure and approach scale), or be None (one step per "
+                                     f"output time), got {value!r}")
+            object.__setattr__(self, "time_tolerance", value)
 
     @classmethod
     def from_value(cls, value):
@@ -61,7 +83,7 @@ class Options:
         if not isinstance(value, dict):
             raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
         solver_keys = set(SolverOptions.__dataclass_fields__)
-        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance"}
+        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance", "time_tolerance"}
         unknown = set(value) - solver_keys - run_keys
         if unknown:
             raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "

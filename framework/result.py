@@ -29,13 +29,14 @@ class StepRecord:
     inclusion_stress: np.ndarray = None   # (m1, m2, m3, 6) total stress [Pa] on that box
     couplings: int = 0                    # fixed-point iterations between contact and inhomogeneities
     inclusion_start: tuple = None         # first cuboid of that box on the grid (it moves when rolling)
+    time_error: float = float("nan")      # estimated time-stepping error, relative (framework.time_error; NaN: unknown)
 
 
 #: SI unit of each series of :meth:`Result.summary` (``summary.csv`` writes them in its header).
 SERIES_UNITS = {"time": "s", "load": "N", "approach": "m", "contact_area": "m2", "contact_radius": "m",
                 "half_width": "m", "max_pressure": "Pa", "center_x1": "m", "center_x2": "m", "tilt_x1": "rad",
                 "tilt_x2": "rad", "friction_coefficient": "1", "torque": "N m", "dissipated_power": "W",
-                "position_x1": "m", "position_x2": "m", "iterations": "1", "residual": "1"}
+                "position_x1": "m", "position_x2": "m", "iterations": "1", "residual": "1", "time_error": "1"}
 
 
 class Result:
@@ -50,7 +51,8 @@ class Result:
     and ``position`` (n, 2) [m] of a rolling body (zero without motion),
     ``iterations`` and ``residual`` of each solve, ``couplings`` the
     fixed-point iterations between the contact and the inhomogeneities (0
-    without them).
+    without them), ``time_error`` the estimated time-stepping error [-]
+    (``Options.time_tolerance``).
     Fields: :meth:`pressure`, :meth:`displacement`, :meth:`gap` on the surface;
     :meth:`stress`, :meth:`von_mises`, :meth:`stress_at` below it. With a
     constant Poisson ratio the stresses depend on the current pressure only,
@@ -115,6 +117,10 @@ class Result:
     iterations = property(lambda self: self._series("iterations").astype(int))
     couplings = property(lambda self: self._series("couplings").astype(int))
     residual = property(lambda self: self._series("residual"))
+    time_error = property(lambda self: self._series("time_error"), doc=(
+        "Estimated time-stepping error of each recorded step [-], relative to the run's pressure and approach "
+        "scale (:mod:`framework.time_error`); 0 without memory, NaN when unknown (a file written before it was "
+        "kept)."))
     tilt = property(lambda self: np.array([r.tilt for r in self.records], dtype=float).reshape(-1, 2))
 
     @property
@@ -461,7 +467,7 @@ class Result:
                 "friction_coefficient": self.friction_coefficient, "torque": self.torque,
                 "dissipated_power": self.dissipated_power,
                 "position_x1": position[:, 0], "position_x2": position[:, 1],
-                "iterations": self.iterations, "residual": self.residual}
+                "iterations": self.iterations, "residual": self.residual, "time_error": self.time_error}
 
 
 def von_mises(stress):

@@ -26,6 +26,7 @@ from ._validation import check_bool, check_positive_int
 from .errors import FrameworkError, GridTooSmallError, LoadNotCarriedError, ParameterError
 from .grid import Grid
 from .history import HereditarySum, PronyRecursion, SteadyMemory
+from .materials import ComplianceSeries
 from .indenters import Indenter
 from .operators.rolling import SteadyRollingCompliance, check_steady
 from .operators.stiffness import SurfaceStiffness
@@ -36,6 +37,7 @@ from .result import Result, StepRecord
 from .stations import MAX_STATIONS, Station  # noqa: F401 (MAX_STATIONS: named in the docstrings, kept importable)
 from .solver import SolverOptions, solve_normal
 from .steady_solver import solve_steady
+from .time_error import StepControl
 
 
 #: How many wake lengths ``|V| lambda`` a transient rolling grid must hold behind the contact: the history of
@@ -201,6 +203,12 @@ class Simulation:
         """Run step by step, yielding a :class:`StepRecord` at every output time.
 
         ``state`` (from a checkpoint) continues a run where it stopped.
+
+        Between two stations a material with memory may take shorter steps, as
+        many as ``options.time_tolerance`` needs (:mod:`framework.time_error`);
+        a trial step whose estimated error exceeds it is solved again shorter,
+        and nothing of it is committed. Only the stations' output times are
+        recorded. ``steps_taken`` and ``steps_rejected`` count the solves.
         """
         grid, options, schedule = self.grid, self.options, self.schedule
         heights, series = self._heights, self._series
@@ -214,10 +222,15 @@ class Simulation:
             integrator = (PronyRecursion if options.history == "recursive" else HereditarySum)(series, grid.shape)
         stiffness = getattr(self, "_stiffness", None) or SurfaceStiffness(grid)   # the solves' preconditioner
         self._integrator, start, index = integrator, 0, 0
+        control = StepControl(series if not steady else ComplianceSeries(c0=1.0), options.time_tolerance,
+                              self._timeline[-1].time)
+        control.points = [(0.0, np.zeros(grid.shape))]      # the material at rest, no pressure
         if state is not None:
             integrator.restore({key: value for key, value in state.items() if key not in ("station", "index")
-                                and not key.startswith(("inclusion_", "predictor_"))})
+                                and not key.startswith(("inclusion_", "predictor_", "time_"))})
             start, index = int(state["station"]), int(state["index"])
+            control.restore(state)
+        self._control = control
         load_control = schedule.control == "load"
         coupling = None
         if self._inclusion_problem is not None:
@@ -232,57 +245,108 @@ class Simulation:
         self._predictor = predictor = _Predictor()
         if state is not None:
             predictor.restore(state)
+        history_at, breaks, still = self._stretches()
+        self.steps_taken = self.steps_rejected = 0
         for number, station in enumerate(self._timeline):
             if number < start:
                 continue
             integrator.translate(station.shift, grid.periodic)
+            control.translate(station.shift, grid.periodic)
             if coupling is not None:
                 coupling.move(station.shift, grid.periodic)     # the inhomogeneities ride with the material
-            compliance, memory = integrator.prepare(station.time)
-            history_displacement = 0.0 if memory is None else operator.apply(memory)
-            initial = integrator.pressure if steady else predictor.guess(station.time, integrator.pressure)
-            arguments = dict(cell_area=grid.cell_area, initial=initial, options=options.solver,
-                             window=operator.window,
-                             apply_window=lambda field, box: operator.apply_window(field, box, compliance, copy=False))
-            if steady:
-                solution = solve_steady(operator.apply, heights, load=station.value, symmetric=symmetric,
-                                        precondition=stiffness, **arguments)
-            else:
-                def solve(extra=0.0):
-                    base = heights + history_displacement + extra
-                    control = dict(load=station.value if load_control else None,
-                                   approach=None if load_control else station.value)
-                    if offset is None and not any(grid.periodic):
-                        return boxed_solve.solve_boxed(operator, compliance, base, stiffness=stiffness, options=options.solver,
-                                            initial=arguments["initial"], cell_area=grid.cell_area, **control)
-                    return solve_normal(
-                        lambda p: operator.apply(p, compliance, copy=False), base, offset=offset,
-                        coordinates=coordinates, diagonal=compliance * operator.diagonal, precondition=stiffness,
-                        **control, **arguments)
-                if coupling is None:
-                    solution = solve()
+            adaptive = not steady and station.time <= still
+            now, trials = integrator.time, 0
+            while True:
+                time = control.next_time(now, station.time) if adaptive else station.time
+                value = station.value if time == station.time else float(history_at(time))
+                compliance, memory = integrator.prepare(time)
+                history_displacement = 0.0 if memory is None else operator.apply(memory)
+                initial = integrator.pressure if steady else predictor.guess(time, integrator.pressure)
+                arguments = dict(cell_area=grid.cell_area, initial=initial, options=options.solver,
+                                 window=operator.window,
+                                 apply_window=lambda field, box: operator.apply_window(field, box, compliance,
+                                                                                       copy=False))
+                if steady:
+                    solution = solve_steady(operator.apply, heights, load=value, symmetric=symmetric,
+                                            precondition=stiffness, **arguments)
                 else:
-                    coupling.prepare(station.time)
-                    coupled = coupling.solve(solve)
+                    def solve(extra=0.0):
+                        base = heights + history_displacement + extra
+                        control_value = dict(load=value if load_control else None,
+                                             approach=None if load_control else value)
+                        if offset is None and not any(grid.periodic):
+                            return boxed_solve.solve_boxed(operator, compliance, base, stiffness=stiffness,
+                                                           options=options.solver, initial=arguments["initial"],
+                                                           cell_area=grid.cell_area, **control_value)
+                        return solve_normal(
+                            lambda p: operator.apply(p, compliance, copy=False), base, offset=offset,
+                            coordinates=coordinates, diagonal=compliance * operator.diagonal,
+                            precondition=stiffness, **control_value, **arguments)
+                    if coupling is None:
+                        solution = solve()
+                    else:
+                        warm = (coupling.eigenstrain, coupling.disturbance, coupling.displacement)
+                        coupling.prepare(time)
+                        coupled = coupling.solve(solve)
+                        solution = coupled.contact
+                        history_displacement = history_displacement + coupled.displacement
+                displacement = solution.displacement + history_displacement
+                if not steady:
+                    elastic = float(np.abs(solution.displacement).max())
+                    secant = compliance * float(np.abs(displacement).max()) / elastic if elastic > 0 else compliance
+                    control.judge(time, solution.pressure, secant)
+                if not control.acceptable():    # rejected: nothing of the trial is kept, not even its warm start
+                    self.steps_rejected += 1
+                    control.reject(now)
+                    if coupling is not None:
+                        coupling.eigenstrain, coupling.disturbance, coupling.displacement = warm
+                    trials += 1
+                    control.check_count(trials, now, station.time)
+                    continue
+                self.steps_taken += 1
+                if options.check_edges:
+                    _check_edges(solution.pressure, grid, time, value, schedule.control)
+                if coupling is not None:
                     coupling.commit(coupled)
-                    solution = coupled.contact
-                    history_displacement = history_displacement + coupled.displacement
-            if options.check_edges:
-                _check_edges(solution.pressure, grid, station.time, station.value, schedule.control)
-            integrator.commit(station.time, solution.pressure)
-            if not steady:
-                predictor.commit(station.time, solution.pressure)
+                integrator.commit(time, solution.pressure)
+                if not steady:
+                    predictor.commit(time, solution.pressure)
+                    control.accept()
+                now = time
+                if time == station.time:
+                    break
+                trials += 1
+                control.check_count(trials, now, station.time)
+            if station.time in breaks or (number and self._timeline[number - 1].time == station.time):
+                control.new_stretch()
             self._position = (number + 1, index + int(station.recorded))
             if station.recorded:
                 yield StepRecord(index=index, time=station.time, load=solution.load, approach=solution.approach,
-                                 pressure=solution.pressure,
-                                 displacement=solution.displacement + history_displacement,
+                                 pressure=solution.pressure, displacement=displacement,
                                  gap=solution.gap, iterations=solution.iterations, residual=solution.residual,
                                  success=solution.success, tilt=tuple(np.arctan(solution.slopes)),
+                                 time_error=control.error,
                                  **({} if coupling is None else dict(
                                      eigenstrain=coupled.eigenstrain, inclusion_stress=coupled.stress,
                                      couplings=coupled.couplings, inclusion_start=coupling.problem.start)))
                 index += 1
+
+    def _stretches(self):
+        """``(history, breaks, still)``: the load or approach at any time [s], the times [s] after which the
+        pressure's curvature starts afresh (jumps and kinks of the history, the start of a motion), and the
+        last time [s] at which the body is at rest (a transient roll takes one step per cell after it)."""
+        schedule = self.schedule
+        if isinstance(schedule, schedules.Rolling):
+            if schedule.steady:
+                return (lambda t: 0.0), set(), -np.inf
+            begin = schedule.motion_start
+            breaks = {begin} | {begin + float(t) for t in schedule.history.jumps + schedule.history.kinks}
+            if schedule.start is None:
+                return schedule.history, breaks, begin
+            start = schedule.start.history
+            return start, breaks | {float(t) for t in start.jumps + start.kinks}, begin
+        history = schedule.history
+        return history, {float(t) for t in history.jumps + history.kinks}, np.inf
 
     def run(self, progress=False, callback=None, checkpoint=None, every=10, resume=None):
         """Run every step and return the :class:`Result`.
@@ -332,7 +396,7 @@ class Simulation:
             position = self._position
             extra = {} if self._coupling is None else self._coupling.snapshot()
             io.save(result, checkpoint, dict(self._integrator.snapshot(), station=position[0], index=position[1],
-                                             **self._predictor.snapshot(), **extra),
+                                             **self._predictor.snapshot(), **self._control.snapshot(), **extra),
                     name="checkpoint")
 
         try:

@@ -234,8 +234,9 @@ def test_every_dataset_is_chunked_with_a_checksum(checkpoint):
         f.visititems(lambda name, item: datasets.append((name, item.chunks, item.fletcher32))
                      if isinstance(item, h5py.Dataset) else None)
         assert f.attrs["format"] == io.FORMAT
-    # state: time, pressure, fields, integral, station, index and the predicted warm start's times and pressures
-    assert len(datasets) == len(io.SERIES) + len(io.FIELDS) + 8
+    # state: time, pressure, fields, integral, station, index and the predicted warm start's times and pressures,
+    # and the time-step control's four (framework.time_error); series: and the optional time_error
+    assert len(datasets) == len(io.SERIES) + 1 + len(io.FIELDS) + 8 + 4
     assert [name for name, chunks, checked in datasets if not chunks or not checked] == []
 
 
