@@ -277,7 +277,7 @@ class Result:
                                  "give Grid(..., depth=..., layers=...)")
         key, value = self._stress_cache
         if key != record.index:
-            if record.eigenstrain is None:
+            if record.inclusion_stress is None:
                 value = self._operator().apply(record.pressure)
             else:
                 position = step % len(self.records)
