@@ -295,7 +295,7 @@ class Simulation:
                     elastic = float(np.abs(solution.displacement).max())
                     secant = compliance * float(np.abs(displacement).max()) / elastic if elastic > 0 else compliance
                     control.judge(time, solution.pressure, secant)
-                if not control.acceptable():    # rejected: nothing of the trial is kept, not even its warm start
+                if adaptive and not control.acceptable():   # rejected: nothing of it is kept, not even its warm start
                     self.steps_rejected += 1
                     control.reject(now)
                     if coupling is not None:

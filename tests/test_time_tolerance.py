@@ -238,3 +238,16 @@ def test_a_scenario_takes_the_tolerance_and_check_refuses_a_bad_one():
     tables["options"]["time_tolerance"] = 2.0
     with pytest.raises(scenario.ScenarioError, match=r"options: time_tolerance must lie in \[1e-08, 0.1\].*got 2.0"):
         scenario.parse(tables)
+
+
+def test_a_transient_roll_moves_a_cell_a_step_and_reports_its_time_error():
+    """The cell sets the step of a roll: no step is rejected or added, and the estimate is reported."""
+    stiff = materials.StandardLinearSolid(e_inf=1e7, e_1=9e7, tau=1.0, poisson=0.5)
+    grid = fw.Grid(shape=(24, 24), size=(2e-3, 2e-3))
+    simulation = fw.Simulation(grid=grid, material=stiff, indenter=indenters.Sphere(radius=RADIUS),
+                               schedule=schedules.Rolling(load=0.2, velocity=(1e-5, 0.0),
+                                                          distance=3 * grid.spacing[0]),
+                               options={"time_tolerance": 1e-6})
+    rolled = simulation.run()
+    assert simulation.steps_taken == len(simulation._timeline) and simulation.steps_rejected == 0
+    assert np.all(np.isfinite(rolled.time_error)) and np.all(rolled.time_error[1:] > 1e-6)
