@@ -41,7 +41,9 @@ class Options:
         records only the output times. None: one step per output time (and
         per jump, kink and ``resolution`` step of the load history), as
         before; the error is estimated all the same (``Result.time_error``).
-        A transient rolling run moves one cell per step whatever it is.
+        A transient rolling run moves one cell per step whatever it is, and a
+        solid without instantaneous compliance (Kelvin-Voigt, first order)
+        keeps the stations as its steps.
     """
 
     solver: SolverOptions = field(default_factory=SolverOptions)

@@ -150,13 +150,20 @@ class StepControl:
         self.step = None        # the next step's length [s] (None: the whole interval)
         self.peak = 0.0         # the largest scale so far [-]
         self.error = self._unit = 0.0
+        self._from_rest = False
         self._trial = None
         self._model = (0.0, None)       # (scale, (kind, value)) of the last judged step: the next one's prediction
 
     # -- the stepper's questions -------------------------------------------------------------------------
 
     def adaptive(self):
-        return self.active and self.tolerance is not None
+        """Whether steps are chosen: a material with memory, a tolerance, and steps linear in the pressure.
+
+        A material without instantaneous compliance (Kelvin-Voigt) holds the pressure within a step,
+        first order: early in a load from rest its estimate per unit step does not fall below a
+        percent for any step, and its steps stay the stations (the estimate is reported all the same).
+        """
+        return self.active and self.tolerance is not None and self.linear
 
     def next_time(self, now, target):
         """The next trial's time [s] on the way from ``now`` to the station at ``target``.
@@ -214,6 +221,9 @@ class StepControl:
             rate = _norm(pressure - before) / step
             local = self.coefficients * -np.expm1(-step / self.times) * rate * step
             model = ("first", rate)
+        # out of a state without pressure, a pressure growing as a power of time is as far off (relatively)
+        # over a step of any length: such a step is taken as it is (its defect is counted all the same)
+        self._from_rest = _norm(before) == 0.0
         scale = max(compliance * _norm(pressure), self.peak)
         defects = decay * self.defects + local
         self.error = float(defects.sum()) / scale if scale > 0 else 0.0
@@ -226,9 +236,11 @@ class StepControl:
 
         Met when the estimate ``E_n`` is within it, or when the step's own defect, repeated at every
         step, would be (``sum_k d_k / (1 - exp(-h/lambda_k))``): the excess of an earlier step then fades
-        and a shorter step would not remove it.
+        and a shorter step would not remove it. A step out of a state without pressure is always met:
+        a pressure growing from nothing as a power of time is as far off, relatively, over a step of
+        any length.
         """
-        return not self.adaptive() or min(self.error, self._unit) <= self.tolerance
+        return not self.adaptive() or self._from_rest or min(self.error, self._unit) <= self.tolerance
 
     def accept(self):
         """Commit the judged trial and choose the next step."""
