@@ -116,9 +116,9 @@ class Simulation:
                                      "(the contact changes as the body passes it); roll over it in a transient run "
                                      "(steady=False, with a distance)")
             travel = [station.shift for station in self._timeline]
-        resolution.check_bodies(self.grid, inclusions, stacklevel=3)
         self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions,
                                                    margin=self.options.inclusion_margin, travel=travel)
+        resolution.check_bodies(self.grid, inclusions, stacklevel=3)    # after the problem's own checks
         return inclusions
 
     def _check(self):
