@@ -34,6 +34,11 @@ class Options:
     coupling_tolerance : float
         Relative change of the inhomogeneities' surface displacement at which a
         step's contact and eigenstrains count as converged together.
+    inclusion_geometry : str
+        How the cuboids hold an inhomogeneity: ``"staircase"`` (whole cuboids whose
+        centre it contains) or ``"laminate"`` (also the cuboids its boundary cuts, each
+        with the body's share of its volume and a body/matrix laminate's stiffness:
+        :mod:`framework.inclusions.subcell`; an elastic matrix only).
     time_tolerance : float or None
         Largest estimated time-stepping error of a material with memory,
         relative to the run's pressure and approach scale, in [1e-8, 0.1]: between two output times the run
@@ -52,6 +57,7 @@ class Options:
     inclusion_margin: float = None
     coupling_tolerance: float = 1e-8
     time_tolerance: float = DEFAULT_TIME_TOLERANCE
+    inclusion_geometry: str = "staircase"
 
     def __post_init__(self):
         if not isinstance(self.solver, SolverOptions):
@@ -66,6 +72,10 @@ class Options:
         if not 1e-14 <= tolerance < 1:
             raise ParameterError(f"coupling_tolerance must lie in [1e-14, 1) (a relative change), got {tolerance!r}")
         object.__setattr__(self, "coupling_tolerance", tolerance)
+        from .inclusions.subcell import GEOMETRIES
+        if not isinstance(self.inclusion_geometry, str) or self.inclusion_geometry not in GEOMETRIES:
+            raise ParameterError(f"inclusion_geometry must be one of {', '.join(map(repr, GEOMETRIES))}, got "
+                                 f"{self.inclusion_geometry!r}")
         if self.time_tolerance is not None:
             value = check_real(self.time_tolerance, name="time_tolerance")
             low, high = TIME_TOLERANCES
@@ -85,7 +95,8 @@ class Options:
         if not isinstance(value, dict):
             raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
         solver_keys = set(SolverOptions.__dataclass_fields__)
-        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance", "time_tolerance"}
+        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance", "time_tolerance",
+                    "inclusion_geometry"}
         unknown = set(value) - solver_keys - run_keys
         if unknown:
             raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "

@@ -336,7 +336,8 @@ class Result:
             self._require_inclusions()
             from .inclusions.field import InclusionProblem
             self._inclusion_problem = InclusionProblem(self.grid, self.material, self.inclusions,
-                                                       margin=self.options.inclusion_margin)
+                                                       margin=self.options.inclusion_margin,
+                                                       geometry=self.options.inclusion_geometry)
         return self._inclusion_problem
 
     def _require_inclusions(self):

@@ -116,7 +116,12 @@ class Simulation:
                                      "(the contact changes as the body passes it); roll over it in a transient run "
                                      "(steady=False, with a distance)")
             travel = [station.shift for station in self._timeline]
-        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions,
+        geometry = self.options.inclusion_geometry
+        if geometry == "laminate" and not isinstance(self.material, Elastic):
+            raise ParameterError(f"options.inclusion_geometry = 'laminate' needs an elastic matrix (its cut cuboids mix "
+                                 f"the matrix's stiffness with the body's, and a viscoelastic one's relaxes), got "
+                                 f"{type(self.material).__name__}; use 'staircase'")
+        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, geometry=geometry,
                                                    margin=self.options.inclusion_margin, travel=travel)
         resolution.check_bodies(self.grid, inclusions, stacklevel=3)    # after the problem's own checks
         return inclusions
