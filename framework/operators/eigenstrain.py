@@ -297,6 +297,60 @@ ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 MEASURED_FFT_POINTS = 2 ** 21
 
 
+def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell):
+    """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra of ``C : D``.
+
+    Each ``(21, N1/2+1, N2/2+1, N3/2+1)`` (unit Young's modulus, Mandel basis) on the padded lattice
+    ``fft_shape``. ``faces`` are the target-minus-source offsets' cuboid faces [m] along each axis, from
+    offset 0 up (the kernels are even or odd in each offset); ``mirror_faces`` the sums of depths' faces
+    and ``place`` where each sum goes on the lattice's third axis; ``depth`` the sources' layers (the
+    mirror image is the sources flipped along x3); ``cell`` the sizes of the averaging cuboid (None: at
+    the centres). Each entry is a fixed combination of the potentials' derivatives, each even or odd in
+    each offset: one derivative at a time is evaluated on the offsets ``>= 0`` of x1 and x2 (and x3 for
+    the infinite-space term), transformed by :func:`~framework.operators.parity.half_spectrum` and added
+    to the entries it enters (a quarter of the lattice, and no lattice array per entry).
+    """
+    n1, n2, n3 = fft_shape
+    # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
+    # field, a reversal of the other two wavenumbers, a conjugation and this phase in q3.
+    flip = np.exp(-2j * np.pi * np.arange(n3 // 2 + 1) * (depth - 1) / n3)
+    coefficients = _stiffness_coefficients(poisson)
+    size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1, n3 // 2 + 1)
+    direct, mirror = np.zeros(size), np.zeros(size, dtype=complex)
+    for faces3, target in ((faces[2], direct), (mirror_faces, mirror)):
+        for key, values in potential_kernel_items(faces[0], faces[1], faces3, cell=cell):
+            parities = key_parities(key)
+            spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
+            spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
+            if target is direct:
+                spectrum = parity.half_spectrum(spectrum, parities[2], n3, axis=2) * parity.phase(parities).real
+            else:
+                wrapped = np.zeros(spectrum.shape[:2] + (n3,))
+                wrapped[:, :, place] = spectrum
+                spectrum = np.fft.rfft(wrapped, axis=2) * (parity.phase(parities[:2]) * flip)
+            del values
+            for e, entry in enumerate(ENTRIES):
+                weight = coefficients[entry][key]
+                if weight != 0.0:
+                    target[e] += weight * spectrum
+    return direct, mirror
+
+
+def surface_traction_kernels(faces1, faces2, top, layers, thickness, poisson):
+    """``2 s33`` at the surface ``(F1, F2, layers, 6)`` per unit eigenstrain component of a cuboid in each of
+    the ``layers`` layers from layer ``top`` down (thickness [m]), unit modulus, target minus source between
+    the faces ``faces1``, ``faces2`` [m]."""
+    # Target on the surface, sources below: x3 - x3' runs from -(bottom) up to -(top of the box).
+    faces3 = -(top + layers - np.arange(layers + 1)) * thickness
+    if top == 0:
+        faces3[-1] = -1e-12 * thickness  # the surface itself: s33 is continuous there (traction)
+    weights = _traction_coefficients(poisson)
+    out = np.zeros((len(faces1) - 1, len(faces2) - 1, layers, 6))
+    for key, values in potential_kernel_items(faces1, faces2, faces3):
+        out += values[:, :, ::-1, None] * weights[key]            # layers bottom-up -> top-down
+    return out
+
+
 class HalfSpaceEigenstrain:
     """Strain in a box of cuboids of the half-space caused by eigenstrains in the same box.
 
@@ -378,54 +432,18 @@ class HalfSpaceEigenstrain:
 
     def _box_spectra(self, cell):
         """Real factors of the 21 infinite-space spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` and the complex
-        mirror spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit Young's modulus, Mandel basis).
-
-        Each entry is a fixed combination of the potentials' derivatives, each even or odd in each
-        offset: one derivative at a time is evaluated on the offsets ``>= 0`` of x1 and x2 (and x3 for
-        the infinite-space term), transformed by :func:`~framework.operators.parity.half_spectrum` and
-        added to the entries it enters (a quarter of the lattice, and no lattice array per entry).
-        """
-        m3, (n1, n2, n3) = self.shape[2], self.fft_shape
-        # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
-        # field, a reversal of the other two wavenumbers, a conjugation and this phase in q3.
-        flip = np.exp(-2j * np.pi * np.arange(n3 // 2 + 1) * (m3 - 1) / n3)
+        mirror spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit Young's modulus, Mandel basis)
+        between the box's cuboids (:func:`kernel_spectra`)."""
+        m3, n3 = self.shape[2], self.fft_shape[2]
         half_faces = [(np.arange(m + 1) - 0.5) * h for m, h in zip(self.shape, self.spacing)]
         mirror_faces = (2 * self.start[2] + np.arange(2 * m3) + 0.5) * self.spacing[2]
-        coefficients = _stiffness_coefficients(self.poisson)
-        size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1, n3 // 2 + 1)
-        direct, mirror = np.zeros(size), np.zeros(size, dtype=complex)
         place = (np.arange(2 * m3 - 1) - (m3 - 1)) % n3      # the mirror kernel's sums of depths, centred
-        for faces3, target in ((half_faces[2], direct), (mirror_faces, mirror)):
-            for key, values in potential_kernel_items(half_faces[0], half_faces[1], faces3, cell=cell):
-                parities = key_parities(key)
-                spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
-                spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
-                if target is direct:
-                    spectrum = parity.half_spectrum(spectrum, parities[2], n3, axis=2) * parity.phase(parities).real
-                else:
-                    wrapped = np.zeros(spectrum.shape[:2] + (n3,))
-                    wrapped[:, :, place] = spectrum
-                    spectrum = np.fft.rfft(wrapped, axis=2) * (parity.phase(parities[:2]) * flip)
-                del values
-                for e, entry in enumerate(ENTRIES):
-                    weight = coefficients[entry][key]
-                    if weight != 0.0:
-                        target[e] += weight * spectrum
-        return direct, mirror
+        return kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell)
 
     def _traction(self, faces1, faces2):
         """``2 s33`` at the surface ``(F1, F2, m3, 6)`` per unit eigenstrain component of a cuboid of each layer
         (top-down), unit modulus, target minus source between the faces ``faces1``, ``faces2`` [m]."""
-        m3, dz, top = self.shape[2], self.spacing[2], self.start[2]
-        # Target on the surface, sources below: x3 - x3' runs from -(bottom) up to -(top of the box).
-        faces3 = -(top + m3 - np.arange(m3 + 1)) * dz
-        if top == 0:
-            faces3[-1] = -1e-12 * dz  # the surface itself: s33 is continuous there (traction)
-        weights = _traction_coefficients(self.poisson)
-        out = np.zeros((len(faces1) - 1, len(faces2) - 1, m3, 6))
-        for key, values in potential_kernel_items(faces1, faces2, faces3):
-            out += values[:, :, ::-1, None] * weights[key]            # layers bottom-up -> top-down
-        return out
+        return surface_traction_kernels(faces1, faces2, self.start[2], self.shape[2], self.spacing[2], self.poisson)
 
     def _plans(self):
         """The 3-D transforms of a product and their buffers (made at the first product)."""

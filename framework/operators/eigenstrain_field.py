@@ -30,11 +30,9 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from . import parity
 from ._box_loops import loops
 from .box_surface import BoxSurface
-from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, _stiffness_coefficients, _traction_coefficients,
-                          key_parities, potential_kernel_items)
+from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, kernel_spectra, surface_traction_kernels)
 from .stress import SubsurfaceStress
 
 
@@ -100,7 +98,7 @@ class EigenstrainField:
         """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra, each
         ``(21, N1/2+1, N2/2+1, N3/2+1)``, of ``C : D`` (unit Young's modulus, Mandel basis), averaged over
         each target cuboid as the box operator's are."""
-        (n1, n2, n3), (k1, k2, k3) = self.fft_shape, self.reach
+        n3 = self.fft_shape[2]
         m3, s3, layers = self.shape[2], self.start[2], self.grid.layers
         h = self.spacing
         faces = [(np.arange(k + 2) - 0.5) * step for k, step in zip(self.reach, h)]
@@ -108,40 +106,12 @@ class EigenstrainField:
         # x3 + x3' is (o + 2 s3 + m3) dx3 with o = (i3 - s3) - b; o runs over -(s3 + m3 - 1) .. layers - 1 - s3
         mirror_faces = (s3 + 0.5 + np.arange(layers + m3)) * h[2]
         place = (np.arange(layers + m3 - 1) - (s3 + m3 - 1)) % n3
-        flip = np.exp(-2j * np.pi * np.arange(n3 // 2 + 1) * (m3 - 1) / n3)
-        coefficients = _stiffness_coefficients(self.poisson)
-        size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1, n3 // 2 + 1)
-        direct, mirror = np.zeros(size), np.zeros(size, dtype=complex)
-        for faces3, target in ((faces[2], direct), (mirror_faces, mirror)):
-            for key, values in potential_kernel_items(faces[0], faces[1], faces3, cell=h):
-                parities = key_parities(key)
-                spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
-                spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
-                if target is direct:
-                    spectrum = parity.half_spectrum(spectrum, parities[2], n3, axis=2) * parity.phase(parities).real
-                else:
-                    wrapped = np.zeros(spectrum.shape[:2] + (n3,))
-                    wrapped[:, :, place] = spectrum
-                    spectrum = np.fft.rfft(wrapped, axis=2) * (parity.phase(parities[:2]) * flip)
-                del values
-                for e, entry in enumerate(ENTRIES):
-                    weight = coefficients[entry][key]
-                    if weight != 0.0:
-                        target[e] += weight * spectrum
-        return direct, mirror
+        return kernel_spectra(faces, mirror_faces, place, m3, self.fft_shape, self.poisson, h)
 
     def _traction(self, faces1, faces2):
         """``2 s33`` at the surface ``(F1, F2, m3, 6)`` per unit eigenstrain component of a cuboid of each box
         layer (top-down), unit modulus, target minus source between the faces given [m] (the box operator's)."""
-        m3, dz, top = self.shape[2], self.spacing[2], self.start[2]
-        faces3 = -(top + m3 - np.arange(m3 + 1)) * dz
-        if top == 0:
-            faces3[-1] = -1e-12 * dz  # the surface itself: s33 is continuous there (traction)
-        weights = _traction_coefficients(self.poisson)
-        out = np.zeros((len(faces1) - 1, len(faces2) - 1, m3, 6))
-        for key, values in potential_kernel_items(faces1, faces2, faces3):
-            out += values[:, :, ::-1, None] * weights[key]
-        return out
+        return surface_traction_kernels(faces1, faces2, self.start[2], self.shape[2], self.spacing[2], self.poisson)
 
     def _plans(self):
         if self._buffers is None:
