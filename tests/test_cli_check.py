@@ -10,21 +10,9 @@ import pytest
 from framework import extras, loads, resources, scenario
 from framework.errors import ParameterError
 
+from cli_helpers import GOOD, cli, one_error
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-GOOD = """
-[grid]
-shape = [16, 16]
-size = [1e-3, 1e-3]
-[material]
-type = "Elastic"
-young = 1e9
-poisson = 0.3
-[indenter]
-type = "Sphere"
-radius = 5e-3
-[schedule]
-load = 1.0
-"""
 QUIET = "[output]\nvtu = false\nhistory = []\n"
 INCLUSION = """
 [[inclusions]]
@@ -32,23 +20,6 @@ center = [0.0, 0.0, 0.2e-3]
 semi_axes = [0.1e-3, 0.1e-3, 0.1e-3]
 material = { young = 70e9, poisson = 0.22 }
 """
-
-
-def cli(capsys, *args):
-    """Exit code, stdout and stderr of ``python -m framework ARGS`` in this process."""
-    from framework.__main__ import main
-    try:
-        code = main(list(args))
-    except SystemExit as exc:  # argparse
-        code = exc.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def one_error(code, err, pattern):
-    assert code == 2 and "Traceback" not in err, err
-    assert len(err.strip().splitlines()) == 1 and err.startswith("error: "), err
-    assert re.search(pattern, err), err
 
 
 def write(tmp_path, text, name="scenario.toml"):

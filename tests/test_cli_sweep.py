@@ -12,6 +12,8 @@ import pytest
 from framework import resources
 from framework.errors import FrameworkError
 
+from cli_helpers import cli, one_error
+
 distributed = pytest.importorskip("distributed", reason="sweeps need the cluster extra: pip install "
                                                         "'viscocontact[cluster]'")
 sw = importlib.import_module("framework.sweep")
@@ -35,23 +37,6 @@ load = 50.0
 vtu = false
 history = []
 """
-
-
-def cli(capsys, *args):
-    """Exit code, stdout and stderr of ``python -m framework ARGS`` in this process."""
-    from framework.__main__ import main
-    try:
-        code = main(list(args))
-    except SystemExit as exc:  # argparse
-        code = exc.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
-
-def one_error(code, err, pattern):
-    assert code == 2 and "Traceback" not in err, err
-    assert len(err.strip().splitlines()) == 1 and err.startswith("error: "), err
-    assert re.search(pattern, err), err
 
 
 def sweep_file(tmp_path, body, top=""):

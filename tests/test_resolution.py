@@ -18,6 +18,8 @@ from framework.errors import ResolutionWarning
 from framework.operators.eigenstrain import COMPONENTS
 from framework.reference import eshelby
 
+from cli_helpers import cli
+
 RADIUS = 10e-3                   # [m] cylinder
 LOAD = 100.0                     # [N/m]
 #: A standard linear solid given by its creep: E(0) = 100 MPa, E(inf) = 10 MPa, retardation time 10 s.
@@ -163,13 +165,6 @@ def test_a_simulation_warns_of_a_coarse_body_before_the_first_step():
     with pytest.warns(ResolutionWarning, match=r"inclusions\[0\]: semi_axes\[0\] = 0.001 m spans 3 cuboids"):
         fw.Simulation(grid=grid, material=matrix, indenter=indenters.Sphere(radius=0.1),
                       schedule=schedules.Static(load=1.0, times=[0.0]), inclusions=[body])
-
-
-def cli(capsys, *args):
-    from framework.__main__ import main
-    code = main(list(args))
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 POINT = """

@@ -9,6 +9,8 @@ import pytest
 
 from framework import scenario
 
+from cli_helpers import GOOD
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = sorted(p for p in glob.glob(os.path.join(ROOT, "examples", "*.toml"))
                   if not os.path.basename(p).startswith("sweep_")) + [scenario.demo_path()]
@@ -43,22 +45,6 @@ def test_demo_command(tmp_path):
     assert completed.returncode == 0, completed.stderr
     assert {"summary.csv", "surface.pvd", "volume.pvd", "history.png"} <= set(os.listdir(tmp_path))
     assert "wrote" in completed.stdout
-
-
-GOOD = """
-[grid]
-shape = [16, 16]
-size = [1e-3, 1e-3]
-[material]
-type = "Elastic"
-young = 1e9
-poisson = 0.3
-[indenter]
-type = "Sphere"
-radius = 5e-3
-[schedule]
-load = 1.0
-"""
 
 
 @pytest.mark.parametrize("change, message", [
