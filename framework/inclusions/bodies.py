@@ -320,6 +320,17 @@ def contact_function(first, second):
     return float(-best.fun)
 
 
+def _lattice_axes(x1, x2, x3):
+    """The lattice's coordinates [m] as three finite, strictly increasing 1-D arrays (named in the errors)."""
+    axes = []
+    for name, values in (("x1", x1), ("x2", x2), ("x3", x3)):
+        values = check_finite_array(values, name=name, ndim=1)
+        if np.any(np.diff(values) <= 0.0):
+            raise ParameterError(f"{name} must be strictly increasing, got {values.tolist()!r}")
+        axes.append(values)
+    return axes
+
+
 @dataclass(frozen=True)
 class InclusionSet(Sequence):
     """Any number of non-overlapping ellipsoidal inhomogeneities (a sequence of :class:`Ellipsoid`).
@@ -386,12 +397,7 @@ class InclusionSet(Sequence):
             0 in the matrix, ``k + 1`` inside (or on the surface of) the ``k``-th inclusion; the
             smallest signed integer type that holds ``len(self)``.
         """
-        axes = []
-        for name, values in (("x1", x1), ("x2", x2), ("x3", x3)):
-            values = check_finite_array(values, name=name, ndim=1)
-            if np.any(np.diff(values) <= 0.0):
-                raise ParameterError(f"{name} must be strictly increasing, got {values.tolist()!r}")
-            axes.append(values)
+        axes = _lattice_axes(x1, x2, x3)
         dtype = next(t for t in (np.int8, np.int16, np.int32) if len(self) <= np.iinfo(t).max)
         field_ = np.zeros(tuple(len(values) for values in axes), dtype=dtype)
         for k, body in enumerate(self.inclusions):
@@ -432,12 +438,7 @@ class InclusionSet(Sequence):
         normal : ndarray, shape (len(x1), len(x2), len(x3), 3)
             The owner's unit outward normal at the cuboid (:meth:`Ellipsoid.cell_fractions`).
         """
-        axes = []
-        for name, values in (("x1", x1), ("x2", x2), ("x3", x3)):
-            values = check_finite_array(values, name=name, ndim=1)
-            if np.any(np.diff(values) <= 0.0):
-                raise ParameterError(f"{name} must be strictly increasing, got {values.tolist()!r}")
-            axes.append(values)
+        axes = _lattice_axes(x1, x2, x3)
         spacing = check_finite_array(spacing, name="spacing", shape=(3,))
         if np.any(spacing <= 0.0):
             raise ParameterError(f"spacing must hold three cuboid sizes > 0 [m], got {spacing.tolist()!r}")
