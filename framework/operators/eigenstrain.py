@@ -85,22 +85,31 @@ def _psi_two_one_one(ti, tj, tk, r):
     return ti / r
 
 
+def corner_case(key):
+    """Which closed form a corner function ``D H`` (``key`` a sorted index tuple) takes, and the axes ``(i, j, k)``
+    whose offsets it takes in that order: ``"phi_diagonal"``, ``"phi_mixed"``, ``"psi_four"``,
+    ``"psi_three_one"``, ``"psi_two_two"`` or ``"psi_two_one_one"`` (axes by decreasing count in the key)."""
+    counts = [key.count(axis) for axis in range(3)]
+    order = tuple(sorted(range(3), key=lambda axis: -counts[axis]))
+    i, j, _ = order
+    if len(key) == 2:
+        return ("phi_diagonal" if counts[i] == 2 else "phi_mixed"), order   # phi_mixed's k: the axis not in the key
+    if counts[i] == 4:
+        return "psi_four", order
+    if counts[i] == 3:
+        return "psi_three_one", order
+    return ("psi_two_two" if counts[j] == 2 else "psi_two_one_one"), order
+
+
+#: The closed forms of :func:`corner_case`'s names, in floating point.
+CORNER_FORMS = {"phi_diagonal": _phi_diagonal, "phi_mixed": _phi_mixed, "psi_four": _psi_four,
+                "psi_three_one": _psi_three_one, "psi_two_two": _psi_two_two, "psi_two_one_one": _psi_two_one_one}
+
+
 def _corner_function(key, t, r):
     """One corner function ``D H`` (``key`` a sorted index tuple) at offsets ``t`` with ``r = |t|``."""
-    counts = [key.count(axis) for axis in range(3)]
-    order = sorted(range(3), key=lambda axis: -counts[axis])     # axes by decreasing count
-    i, j, k = order
-    if len(key) == 2:
-        if counts[i] == 2:
-            return _phi_diagonal(t[i], t[j], t[k], r)
-        return _phi_mixed(t[i], t[j], t[k], r)                   # k: the axis not in the key
-    if counts[i] == 4:
-        return _psi_four(t[i], t[j], t[k], r)
-    if counts[i] == 3:
-        return _psi_three_one(t[i], t[j], t[k], r)
-    if counts[j] == 2:
-        return _psi_two_two(t[i], t[j], t[k], r)
-    return _psi_two_one_one(t[i], t[j], t[k], r)
+    name, (i, j, k) = corner_case(key)
+    return CORNER_FORMS[name](t[i], t[j], t[k], r)
 
 
 #: The 21 derivatives of the potentials a strain needs: ``(i, j)`` for ``phi_,ij``, ``(i, j, k, l)`` for ``psi_,ijkl``.

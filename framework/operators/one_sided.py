@@ -135,24 +135,19 @@ def _psi_two_one_one(ti, tj, tk, r):
     return (ti / r).limit()
 
 
+#: The closed forms of :func:`~framework.operators.eigenstrain.corner_case`'s names, in :class:`Leading` arithmetic.
+LIMIT_FORMS = {"phi_diagonal": _phi_diagonal, "phi_mixed": _phi_mixed, "psi_four": _psi_four,
+               "psi_three_one": _psi_three_one, "psi_two_two": _psi_two_two, "psi_two_one_one": _psi_two_one_one}
+
+
 def corner_function_limit(key, t):
     """One corner function ``D H`` of :mod:`framework.operators.eigenstrain` (``key`` a sorted index tuple) as the
-    limit described in the module docstring; ``t`` three :class:`Leading` offsets. The same cases as its
-    ``_corner_function``, written in :class:`Leading` arithmetic."""
-    counts = [key.count(axis) for axis in range(3)]
-    i, j, k = sorted(range(3), key=lambda axis: -counts[axis])
+    limit described in the module docstring; ``t`` three :class:`Leading` offsets. The same cases
+    (:func:`~framework.operators.eigenstrain.corner_case`), written in :class:`Leading` arithmetic."""
+    from .eigenstrain import corner_case
+    name, (i, j, k) = corner_case(key)
     r = (t[0].square() + t[1].square() + t[2].square()).sqrt()
-    if len(key) == 2:
-        if counts[i] == 2:
-            return _phi_diagonal(t[i], t[j], t[k], r)
-        return _phi_mixed(t[i], t[j], t[k], r)
-    if counts[i] == 4:
-        return _psi_four(t[i], t[j], t[k], r)
-    if counts[i] == 3:
-        return _psi_three_one(t[i], t[j], t[k], r)
-    if counts[j] == 2:
-        return _psi_two_two(t[i], t[j], t[k], r)
-    return _psi_two_one_one(t[i], t[j], t[k], r)
+    return LIMIT_FORMS[name](t[i], t[j], t[k], r)
 
 
 def cuboid_potentials(offsets, half, cell=None):
