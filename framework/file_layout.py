@@ -27,6 +27,9 @@ INCLUSION = frozenset({f"series/{key}" for key in INCLUSION_SERIES} | {f"fields/
 #: The estimated time-stepping error of each step (``Result.time_error``): format 4 and later, optional (files
 #: written before it lack it and read as NaN).
 TIME_ERROR = "series/time_error"
+#: The eigenstrains under the matrix's relaxation modulus (``StepRecord.relaxed_eigenstrain``, a viscoelastic
+#: matrix's): format 5 and later, optional (the eigenstrains' datasets with it).
+RELAXED = "fields/relaxed_eigenstrain"
 #: The groups and datasets every result file holds; the others (the inhomogeneities', the state) are optional.
 REQUIRED = frozenset({"series", "fields"} | {f"series/{key}" for key in SERIES} | {f"fields/{key}" for key in FIELDS})
 #: The HDF5 filters a result file may use: gzip (deflate), shuffle and Fletcher-32.
@@ -153,7 +156,8 @@ def check_layout(objects, format, fail, forged):
     marks = _later_format_marks(objects) if format == 1 else []
     if marks:
         raise forged(marks[0])
-    allowed = REQUIRED | {"state"} | (INCLUSION if format >= 3 else set()) | ({TIME_ERROR} if format >= 4 else set())
+    allowed = REQUIRED | {"state"} | (INCLUSION if format >= 3 else set()) | ({TIME_ERROR} if format >= 4 else set()) \
+        | ({RELAXED} if format >= 5 else set())
     for path, item in objects.items():
         group = path.split("/")[0]
         if path not in allowed and not (group == "state" and path.count("/") == 1):
@@ -169,6 +173,8 @@ def check_layout(objects, format, fail, forged):
         | ({"series/inclusion_start"} if format >= 4 else set())   # format 3 wrote the box's start later
     if present and needed - present:
         raise fail(f"it holds {_names(present)} of the inhomogeneities' datasets but not {_names(needed - present)}")
+    if RELAXED in objects and not present:
+        raise fail(f"it holds {RELAXED!r} but none of the inhomogeneities' datasets")
     for path, item in objects.items():
         allowed_attributes = ({"keys"} if path == "state" and format in (2, 3) else set()) if item["kind"] == "group" \
             else ({"scalar"} if format >= 2 else set())
@@ -259,7 +265,7 @@ def check_shapes(objects, configuration, fail):
                 and 0 < box[3] <= layers):
             raise fail(f"dataset 'fields/eigenstrain' has shape {tuple(box)}; expected (steps, m1, m2, m3, 6) "
                        f"with a box of at most {n1} x {n2} x {layers} cuboids ({why})")
-        expected["fields/inclusion_stress"] = box
+        expected["fields/inclusion_stress"] = expected[RELAXED] = box
     for path, item in objects.items():
         if item["kind"] != "dataset":
             continue

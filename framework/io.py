@@ -15,7 +15,8 @@ group ``fields`` (``pressure``, ``displacement``, ``gap``, each ``(steps, n1,
 n2)``, one gzip chunk per step); for a run with inhomogeneities also
 ``series/couplings``, ``series/inclusion_start`` and ``fields/eigenstrain``,
 ``fields/inclusion_stress`` (each ``(steps, m1, m2, m3, 6)`` on the
-inhomogeneities' box, see :class:`~framework.result.StepRecord`) with the
+inhomogeneities' box, see :class:`~framework.result.StepRecord`; with a
+viscoelastic matrix, optional, ``fields/relaxed_eigenstrain`` of that shape) with the
 inhomogeneities in the configuration (key ``inclusions``); and, in a
 checkpoint, group ``state`` (the time stepper's history and the next station,
 and the last eigenstrains). The manifest lists those optional datasets.
@@ -306,7 +307,8 @@ def save(result, path, state=None, *, name="path", annotations=None):
             if records and records[0].eigenstrain is not None:
                 for key in INCLUSION_SERIES:
                     _dataset(series, key, np.array([getattr(r, key) for r in records]))
-                for key in INCLUSION_FIELDS:
+                relaxed = ("relaxed_eigenstrain",) if all(r.relaxed_eigenstrain is not None for r in records) else ()
+                for key in INCLUSION_FIELDS + relaxed:
                     data = np.array([getattr(r, key) for r in records])
                     _dataset(fields, key, data, compression="gzip", compression_opts=1, shuffle=True,
                              chunks=(1,) + data.shape[1:])
@@ -484,6 +486,8 @@ def _records(series, fields):
                        time_error=float(series["time_error"][k]) if "time_error" in series else float("nan"),
                        **({} if not inclusions else dict(
                            eigenstrain=fields["eigenstrain"][k], inclusion_stress=fields["inclusion_stress"][k],
+                           relaxed_eigenstrain=(fields["relaxed_eigenstrain"][k] if "relaxed_eigenstrain" in fields
+                                                else None),
                            couplings=int(series["couplings"][k]),
                            inclusion_start=(tuple(int(v) for v in series["inclusion_start"][k])
                                             if "inclusion_start" in series else None))))
@@ -510,7 +514,8 @@ def check_records(records, grid, inclusions, options, *, path, name):
     start, shape, _ = layout(grid, inclusions, options.inclusion_margin)
     limits = (*grid.shape, grid.layers)
     for record in records:
-        if record.eigenstrain.shape != (*shape, 6) or record.inclusion_stress.shape != (*shape, 6):
+        if record.eigenstrain.shape != (*shape, 6) or record.inclusion_stress.shape != (*shape, 6) \
+                or (record.relaxed_eigenstrain is not None and record.relaxed_eigenstrain.shape != (*shape, 6)):
             raise fail(f"step {record.index}: its eigenstrains have shape {record.eigenstrain.shape}; the "
                        f"configuration's box around the inhomogeneities needs {(*shape, 6)}")
         first = start if record.inclusion_start is None else record.inclusion_start

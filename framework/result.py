@@ -30,6 +30,7 @@ class StepRecord:
     couplings: int = 0                    # fixed-point iterations between contact and inhomogeneities
     inclusion_start: tuple = None         # first cuboid of that box on the grid (it moves when rolling)
     time_error: float = float("nan")      # estimated time-stepping error, relative (framework.time_error; NaN: unknown)
+    relaxed_eigenstrain: np.ndarray = None    # (m1, m2, m3, 6) e~ = R * de* [Pa] (viscoelastic matrix; else None)
 
 
 #: SI unit of each series of :meth:`Result.summary` (``summary.csv`` writes them in its header).
@@ -265,11 +266,11 @@ class Result:
         not depend on the modulus, but the matrix's stress does, through its history: beyond the
         bodies it is ``C_bar : D[e~]`` with ``e~(t) = int_0^t R(t - s) de*(s)`` the eigenstrains
         weighted by the relaxation modulus ``R`` (THEORY.md sec. 8), neither the instantaneous
-        ``E(0) D[e*]`` nor the relaxed ``E_inf D[e*]``. ``e~`` is the run's own Prony recursion
-        replayed over the recorded steps (eigenstrain linear within each): the same numbers as the
-        run's when it recorded every step it took (a rolling run over a distance, a static one whose
-        steps are its output times); where it took steps it did not record, ``e*`` is taken as linear
-        between the recorded ones.
+        ``E(0) D[e*]`` nor the relaxed ``E_inf D[e*]``. The run carries ``e~`` by one more Prony
+        recursion over every step it takes, recorded or not (``StepRecord.relaxed_eigenstrain``), so
+        the field is the run's own at any output time. (A record without it, from a run resumed from a
+        checkpoint written before it was carried, falls back on the recursion replayed over the
+        recorded steps, ``e*`` linear between them: exact only where every step was recorded.)
         """
         record = self._record(step)
         if not self.grid.layers:
@@ -310,12 +311,14 @@ class Result:
 
     def _relaxed_eigenstrain(self, position):
         """``e~ = int R(t - s) de*(s)`` [Pa] on the box at record ``position``: ``E e*`` for an elastic matrix; for a
-        viscoelastic one the relaxation recursion replayed over the records up to it (kept, so steps asked in
-        order cost one update each)."""
+        viscoelastic one the run's own (recorded), else the relaxation recursion replayed over the records up to
+        it (kept, so steps asked in order cost one update each)."""
         from .materials import Elastic
         records = self.records
         if isinstance(self.material, Elastic):
             return self.material.young * records[position].eigenstrain
+        if records[position].relaxed_eigenstrain is not None:
+            return records[position].relaxed_eigenstrain
         from .history import PronyRecursion
         from .inclusions.coupling import matrix_series
         done, recursion, relaxed = self._relaxation_replay

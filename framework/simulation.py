@@ -333,6 +333,7 @@ class Simulation:
                                  time_error=control.error,
                                  **({} if coupling is None else dict(
                                      eigenstrain=coupled.eigenstrain, inclusion_stress=coupled.stress,
+                                     relaxed_eigenstrain=coupled.relaxed,
                                      couplings=coupled.couplings, inclusion_start=coupling.problem.start)))
                 index += 1
 

@@ -17,6 +17,10 @@ or the full sum with ``options={"history": "hereditary"}``) with the fields ``S 
 with the matrix modulus ``R_eff`` (the mean of ``R`` over the step) and a known history stress,
 ``(C_I - R_eff C_bar) D[e*] + R_eff C_bar e* = S p + s_hist - C_I e0``. Memory per step: one
 ``(m1, m2, m3, 6)`` field per creep term and per relaxation term, plus the last two fields.
+
+One more relaxation recursion carries ``e~ = R * de*``, the eigenstrains weighted by the relaxation
+modulus over their history: the eigenstrains' stress beyond the box is ``C_bar : D[e~]``
+(:meth:`framework.result.Result.stress`), known exactly at every step the run took, recorded or not.
 """
 from dataclasses import dataclass
 
@@ -48,7 +52,9 @@ class CoupledStep:
 
     ``eigenstrain`` and ``stress`` are box fields ``(m1, m2, m3, 6)`` (tensor shears; the total
     stress [Pa]); ``displacement`` the eigenstrains' surface displacement the contact saw;
-    ``contact_stress`` and ``field`` what the matrix's histories remember of the step.
+    ``contact_stress`` and ``field`` what the matrix's histories remember of the step; ``relaxed``
+    ``e~ = R * de*`` [Pa] (the eigenstrains under the matrix's relaxation modulus, a box field), None
+    for an elastic matrix (there ``E e*``) or a run resumed from a checkpoint that lacked its history.
     """
 
     contact: object
@@ -59,6 +65,7 @@ class CoupledStep:
     change: float
     contact_stress: np.ndarray
     field: np.ndarray
+    relaxed: np.ndarray = None
 
 
 class ContactCoupling:
@@ -96,6 +103,8 @@ class ContactCoupling:
         creep, relaxation = matrix_series(problem.matrix)
         shape = (*problem.shape, 6)
         self._creep, self._relaxation = integrator(creep, shape), integrator(relaxation, shape)
+        # e~ = R * de*, for the eigenstrains' stress beyond the box (only where R has memory)
+        self._weighted = integrator(relaxation, shape) if relaxation.terms else None
         self.eigenstrain = None     # the last step's, to start the next one from
         self.disturbance = None     # D[eigenstrain], known from its solve: saves a product per solve
         self.displacement = 0.0
@@ -114,6 +123,8 @@ class ContactCoupling:
         """Set up the step to ``time`` [s]: the matrix's effective modulus and its history stresses."""
         self._compliance, self._creep_history = self._creep.prepare(time)
         self._modulus, self._relaxation_history = self._relaxation.prepare(time)
+        if self._weighted is not None:
+            self._weighted_history = self._weighted.prepare(time)[1]
         self.problem.problem.set_modulus(self._modulus)
         self._time = time
 
@@ -121,6 +132,8 @@ class ContactCoupling:
         """Remember the converged step (its contact stress and equivalent-body field)."""
         self._creep.commit(self._time, step.contact_stress)
         self._relaxation.commit(self._time, step.field)
+        if self._weighted is not None:
+            self._weighted.commit(self._time, step.eigenstrain)
         inner = self.problem.problem
         self.past = (self.past + [(self._time, step.eigenstrain[inner.cells] * MANDEL)])[-PREDICTOR_STEPS:]
 
@@ -198,7 +211,10 @@ class ContactCoupling:
                 eigenstrain = inner.box_field(values)
                 stress, field = self._outputs(eigenstrain, disturbance, matrix_stress, strain0)
                 self.eigenstrain, self.disturbance, self.displacement = eigenstrain, disturbance, displacement
-                return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field)
+                relaxed = None if self._weighted is None or self._weighted_history is None \
+                    else self._modulus * eigenstrain + self._weighted_history
+                return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field,
+                                   relaxed)
             correction = inner._precondition(residual.ravel(), deflation)
             image, moved = operator.strain(inner.box_field(correction.reshape(-1, 6)), displacement=True)
             inner.products += 1
@@ -226,7 +242,7 @@ class ContactCoupling:
         # the Krylov solver's memory: a resumed run repeats the same iterations
         out.update({f"inclusion_recycled_{key}": value
                     for key, value in self.problem.problem.recycled.snapshot().items()})
-        for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
+        for name, integrator in self._integrators():
             out.update({f"inclusion_{name}_{key}": value for key, value in integrator.snapshot().items()})
         return out
 
@@ -247,9 +263,18 @@ class ContactCoupling:
         if "inclusion_recycled_directions" in snapshot:
             recycled.restore({key[len("inclusion_recycled_"):]: value for key, value in snapshot.items()
                               if key.startswith("inclusion_recycled_")})
-        for name, integrator in (("creep", self._creep), ("relaxation", self._relaxation)):
+        for name, integrator in self._integrators():
             prefix = f"inclusion_{name}_"   # (inclusion_start and inclusion_eigenstrain have no such prefix)
-            integrator.restore({key[len(prefix):]: value for key, value in snapshot.items() if key.startswith(prefix)})
+            kept = {key[len(prefix):]: value for key, value in snapshot.items() if key.startswith(prefix)}
+            if name == "weighted" and not kept:     # a checkpoint written before e~ was carried: not known
+                self._weighted = None
+                continue
+            integrator.restore(kept)
+
+    def _integrators(self):
+        """``(name, integrator)`` of the matrix's histories: the contact's strain, the matrix's stress and e~."""
+        out = [("creep", self._creep), ("relaxation", self._relaxation)]
+        return out if self._weighted is None else out + [("weighted", self._weighted)]
 
 
 #: Iterates the Anderson mixing of the coupling remembers.
