@@ -144,6 +144,9 @@ def test_a_flipped_bit_in_a_name_fails_hdf5s_header_checksum(copy):
     (lambda f: f["state/station"].attrs.modify("scalar", 2), r"'state/station' has the attribute 'scalar' = 2"),
     (lambda f: f.attrs.create("comment", "x"),
      r"it has the file attribute\(s\) 'comment', which no file of format 5 has"),
+    (lambda f: f["fields"].create_dataset("relaxed_eigenstrain", data=np.zeros((len(f["series/time"]), 1, 1, 1, 6)),
+                                          chunks=True, fletcher32=True),
+     r"dataset 'fields/relaxed_eigenstrain' has shape \(\d+, 1, 1, 1, 6\); expected \(\d+, \d+, \d+, \d+, 6\)"),
 ])
 def test_what_no_format_writes_is_refused(copy, edit, message):
     path = copy("c.h5")
@@ -565,3 +568,15 @@ def test_a_flip_that_hangs_hdf5_fails_the_campaign_instead_of_hanging_it(files, 
     assert flip_in_child(path, "result", [HUNG], timeout=10) == (1, 0, 0, [(*HUNG, "hangs (still loading after "
                                                                                    "the 10 s allowed)")])
     assert os.listdir(tmp_path) == ["r.h5"]
+
+
+def test_relaxed_eigenstrains_without_the_eigenstrains_are_refused(plain, tmp_path):
+    path = tmp_path / "p.h5"
+    plain.save(path)
+    with h5py.File(path, "a") as f:
+        f["fields"].create_dataset("relaxed_eigenstrain", data=np.zeros((len(plain), 2, 2, 2, 6)), chunks=True,
+                                   fletcher32=True)
+    resign(path)
+    with pytest.raises(errors.FileError, match="it holds 'fields/relaxed_eigenstrain' but none of the "
+                                               "inhomogeneities' datasets"):
+        fw.load_result(path)
