@@ -15,6 +15,8 @@
   Cheng (1950) centre of dilatation, dilute change of an indenter's approach.
 - :mod:`.eigenstrain`: strain of a uniform eigenstrain in a cuboid in an infinite body (Kelvin) and
   a half-space (Mindlin 1936), and the half-space's surface displacement, by face quadrature.
+- :mod:`.mori_tanaka`: Mori-Tanaka (Benveniste 1987) effective stiffness of a matrix with aligned,
+  planar or randomly oriented spheroids; a viscoelastic matrix by the correspondence principle.
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
@@ -32,6 +34,8 @@ from .eshelby import (InteriorSolution, dilatation_strength, dilatation_surface_
                       isotropic_stiffness)
 from .eigenstrain import (kelvin_cuboid_strain, kelvin_point_force_displacement, mindlin_cuboid_strain,
                           mindlin_cuboid_surface_displacement, mindlin_point_force_displacement)
+from .mori_tanaka import (HomogenisedViscoelastic, mori_tanaka, mori_tanaka_fit, mori_tanaka_moduli,
+                          mori_tanaka_stiffness)
 
 __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "SteadyLineContact", "SteadySphereContact",
            "TingSolution", "Westergaard",
@@ -45,4 +49,5 @@ __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "Ste
            "eshelby_integrals", "eshelby_tensor", "hertz_axis_stress", "hertz_axis_stress_rate", "interior_solution",
            "isotropic_stiffness",
            "kelvin_cuboid_strain", "kelvin_point_force_displacement", "mindlin_cuboid_strain",
-           "mindlin_cuboid_surface_displacement", "mindlin_point_force_displacement"]
+           "mindlin_cuboid_surface_displacement", "mindlin_point_force_displacement",
+           "HomogenisedViscoelastic", "mori_tanaka", "mori_tanaka_fit", "mori_tanaka_moduli", "mori_tanaka_stiffness"]
