@@ -145,7 +145,7 @@ def test_fourier_preconditioner_halves_the_products():
     assert quarter.matrices.shape[:2] == tuple(n // 2 + 1 for n in problem.operator.fft_shape[:2])
     field = np.random.default_rng(2).normal(size=(*problem.operator.shape, 6))
     full = equivalent.FourierPreconditioner.__new__(equivalent.FourierPreconditioner)
-    full.operator, full.parities = problem.operator, (np.ones(6), np.ones(6))
+    full.operator, full.parities, full.own = problem.operator, (np.ones(6), np.ones(6)), False
     rows, columns = (np.arange(n) for n in problem.operator.fft_shape[:2])
     index = np.ix_(np.minimum(rows, len(rows) - rows), np.minimum(columns, len(columns) - columns))
     signs = [np.where(axis[:, None] > len(axis) // 2, p[None, :], 1.0) for axis, p in zip((rows, columns),
@@ -255,3 +255,28 @@ def test_predictor_extrapolates_in_time():
     assert predicted(past, 0.3, last) is last
     assert predicted(past, 0.42, last + 1.0) is not None and np.array_equal(predicted(past, 0.42, last + 1.0),
                                                                               last + 1.0)
+
+
+def test_fourier_preconditioner_on_the_boxs_own_lattice():
+    """Where the bodies' periodic images stay OWN_LATTICE_GAP cuboids apart on the box's own lattice (half the
+    padded one), the Fourier preconditioner works there: eight times fewer points, the same solution, at most
+    one GMRES iteration more (this glass sphere, 12 cuboids across in a 20 x 20 x 22 box: 25 against 24 on the
+    padded lattice, to 1e-10); a box the body fills (margin 0: images touching) keeps the padded lattice."""
+    applied = np.array([1e-3, 0, 0, 0, 2e-4, 0])
+    grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.6e-3, layers=24)
+    body = inclusions.Ellipsoid(center=(0.0, 0.0, 0.3e-3), semi_axes=(0.15e-3,) * 3, material=GLASS)
+    counts, solutions = {}, {}
+    for own in (True, False):
+        problem = InclusionProblem(grid, materials.Elastic(3e9, 0.35), inclusions.InclusionSet([body]),
+                                   margin=0.1e-3).problem
+        assert problem._own and problem.preconditioner == "fourier"
+        problem._own, problem.recycled.kept = own, 0
+        solution = problem.solve(applied, tolerance=1e-10)
+        assert solution.success
+        counts[own], solutions[own] = solution.iterations, solution.eigenstrain
+        if own:
+            assert problem._fourier[1].matrices.shape[:3] == tuple(n // 4 + 1 for n in problem.operator.fft_shape)
+    assert counts[True] <= counts[False] + 1
+    assert np.abs(solutions[True] - solutions[False]).max() <= 1e-8 * np.abs(solutions[False]).max()
+    filled = InclusionProblem(grid, materials.Elastic(3e9, 0.35), inclusions.InclusionSet([body]), margin=0.0)
+    assert not filled.problem._own

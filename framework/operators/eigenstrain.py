@@ -438,6 +438,7 @@ class HalfSpaceEigenstrain:
         self._surface = BoxSurface(grid, poisson, self.patch, start, shape, traction=self._traction, starts=self._starts)
         self._grid_surface = None
         self._transforms = None
+        self._own_transforms = None
 
     def _box_spectra(self, cell):
         """Real factors of the 21 infinite-space spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` and the complex
@@ -551,21 +552,53 @@ class HalfSpaceEigenstrain:
             np.multiply(real_out[:m1, :m2, :m3], scale * weights[c], out=out[..., c])
         return out
 
-    def fourier(self, field, multiply):
+    def fourier(self, field, multiply, own=False):
         """``F^-1 [multiply(F field)]`` on the padded box, for a box field ``(m1, m2, m3, 6)`` (Mandel components).
 
         ``multiply(spectra)`` changes the six spectra ``(6, N1, N2, N3/2 + 1)`` in place; the box
         part of the result is returned. For preconditioners that act on the box as if it were
         one homogeneous periodic cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`).
+        ``own``: on the box's own lattice instead, half the padded one along each axis (:attr:`own_shape`,
+        eight times fewer points), whose spectra :meth:`infinite_spectra` gives with ``own=True``.
         """
-        multiply(self._transform(field, np.ones(6)))
-        return self._transform_back(np.ones(6))
+        if not own:
+            multiply(self._transform(field, np.ones(6)))
+            return self._transform_back(np.ones(6))
+        m1, m2, m3 = self.shape
+        if self._own_transforms is None:
+            shape = self.own_shape
+            real_in, real_out = fft.zeros(shape), fft.zeros(shape)
+            spectra = fft.zeros((6, shape[0], shape[1], shape[2] // 2 + 1), complex)
+            self._own_transforms = (real_in, real_out, spectra,
+                                    [fft.Transform(real_in, spectra[c], axes=(0, 1, 2)) for c in range(6)],
+                                    [fft.Transform(spectra[c], real_out, axes=(0, 1, 2)) for c in range(6)])
+        real_in, real_out, spectra, forward, inverse = self._own_transforms
+        for c in range(6):
+            real_in[:m1, :m2, :m3] = field[..., c]
+            forward[c]()
+        multiply(spectra)
+        out = np.empty((m1, m2, m3, 6))
+        scale = 1.0 / np.prod(self.own_shape)
+        for c in range(6):
+            inverse[c]()
+            np.multiply(real_out[:m1, :m2, :m3], scale, out=out[..., c])
+        return out
 
-    def infinite_spectra(self):
+    @property
+    def own_shape(self):
+        """The box's own periodic lattice: half the padded one along each axis (at least the box)."""
+        return tuple(n // 2 for n in self.fft_shape)
+
+    def infinite_spectra(self, own=False):
         """The infinite-space term's kernels: real factors ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit
         Young's modulus, Mandel basis) for ``q1, q2 >= 0``, the entries' components ``(first, second)``
-        and the components' parities in x1 and x2 (an entry's is their product)."""
-        return self._direct, self._entries, self._parities
+        and the components' parities in x1 and x2 (an entry's is their product).
+
+        ``own``: on :attr:`own_shape`, the padded lattice's even wavenumbers, i.e. the kernels summed over
+        the periods of the box's own lattice (a DFT of length N taken at every other wavenumber is the
+        DFT of length N/2 of the signal folded onto N/2).
+        """
+        return (self._direct[:, ::2, ::2, ::2] if own else self._direct), self._entries, self._parities
 
     def strain(self, eigenstrain, displacement=False):
         """Total strain ``(m1, m2, m3, 6)`` (tensor shears) in the box from the eigenstrain ``(m1, m2, m3, 6)``.
