@@ -438,7 +438,8 @@ class Simulation:
                            and json.dumps(mine.get(key)) != json.dumps(configuration.get(key)))
         if differing:
             raise ParameterError(f"resume: the checkpoint {path!r} was written for another configuration "
-                                 f"({', '.join(differing)} differ); run it with its own scenario or start afresh")
+                                 f"({_differences(mine, configuration, differing)}); run it with its own scenario "
+                                 f"or start afresh")
         io.check_records(records, self.grid, self.inclusions, self.options, path=path, name="resume")
         io.check_state(state, path=path, name="resume")
         outputs = len(self.output_times)
@@ -493,6 +494,31 @@ class _Predictor:
         """Take the memory back from a checkpoint's state (one without it: start afresh)."""
         if "predictor_times" in state:
             self.times, self.pressures = list(state["predictor_times"]), list(state["predictor_pressures"])
+
+
+#: Options an earlier version did not have, and the value that behaves as it did (a checkpoint without them).
+EARLIER_OPTIONS = {"time_tolerance": None}
+
+
+def _differences(mine, theirs, keys):
+    """What differs between two configurations, for a message: the keys, and within ``options`` which option
+    with both values (an option the checkpoint predates: the value to give to resume it)."""
+    import json
+    plain, options = [], []
+    for key in keys:
+        if key == "options" and isinstance(mine.get(key), dict) and isinstance(theirs.get(key), dict):
+            ours, its = mine[key], theirs[key]
+            for name in sorted(set(ours) | set(its)):
+                if json.dumps(ours.get(name)) == json.dumps(its.get(name)):
+                    continue
+                if name not in its and name in EARLIER_OPTIONS:
+                    options.append(f"options.{name}: the checkpoint predates it; give {name}="
+                                   f"{EARLIER_OPTIONS[name]!r} to resume it")
+                else:
+                    options.append(f"options.{name}: {ours.get(name)!r} here, {its.get(name)!r} in the checkpoint")
+        else:
+            plain.append(key)
+    return "; ".join(([f"{', '.join(plain)} differ"] if plain else []) + options)
 
 
 def _check_edges(pressure, grid, time, value, control):

@@ -262,6 +262,22 @@ def test_resume_refuses_another_configuration(tmp_path):
         build(23).run(resume=str(tmp_path / "c.h5"))
 
 
+def test_resume_names_the_options_that_differ(tmp_path):
+    """Options that differ are named with both values; one an earlier version's checkpoint lacks is named with
+    the value that behaves as that version did (time_tolerance=None: the output times are the steps)."""
+    from framework.simulation import _differences
+    build(21).run(checkpoint=str(tmp_path / "c.h5"))
+    tighter = build(21)
+    tighter.options = fw.Options(time_tolerance=1e-4)
+    with pytest.raises(errors.ParameterError, match=r"another configuration \(options.time_tolerance: 0.0001 here, "
+                                                    r"0.001 in the checkpoint\)"):
+        tighter.run(resume=str(tmp_path / "c.h5"))
+    mine = {"grid": 1, "options": {"time_tolerance": 1e-3, "tolerance": 1e-8}}
+    older = {"grid": 2, "options": {"tolerance": 1e-8}}
+    assert _differences(mine, older, ["grid", "options"]) == (
+        "grid differ; options.time_tolerance: the checkpoint predates it; give time_tolerance=None to resume it")
+
+
 def test_resume_of_a_finished_run_returns_it(tmp_path):
     first = build(21).run(checkpoint=str(tmp_path / "c.h5"))
     again = build(21).run(resume=str(tmp_path / "c.h5"))
