@@ -3,7 +3,8 @@
 A scenario has the tables ``[grid]``, ``[material]``, ``[indenter]``,
 ``[schedule]`` and optionally ``[options]``, ``[output]`` and any number of
 ``[[inclusions]]`` (elastic ellipsoidal inhomogeneities, see
-:func:`inclusions_from_tables`). Objects are
+:func:`inclusions_from_tables`) and ``[[dispersions]]`` (random particles or
+fibres, added to them, see :func:`dispersions_from_tables`). Objects are
 written as ``type = "ClassName"`` plus their keyword arguments (the same form
 as :func:`framework.config.describe`); a material may instead name a preset
 (``preset = "PMMA"``), and a viscoelastic one may take ``temperature`` [K] with
@@ -36,8 +37,13 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 TABLES = {"grid", "material", "indenter", "schedule", "options", "output"}
-ARRAYS = {"inclusions"}   # arrays of tables, [[inclusions]]
+ARRAYS = {"inclusions", "dispersions"}   # arrays of tables, [[inclusions]], [[dispersions]]
 INCLUSION_KEYS = {"type", "center", "semi_axes", "material", "orientation", "euler", "convention"}
+#: Keys of a ``[[dispersions]]`` table: the arguments of :func:`framework.inclusions.random_dispersion`.
+DISPERSION_KEYS = ("fraction", "region", "radius", "material", "aspect", "orientation", "gap", "seed")
+#: The ones a table must give: ``seed`` too, so that a scenario reads as the same bodies each time (the check of a
+#: run and the run itself, every point of a sweep).
+DISPERSION_REQUIRED = ("fraction", "region", "radius", "material", "seed")
 REQUIRED = ("grid", "material", "indenter", "schedule")
 PRESETS = {"PMMA": lambda: materials.PMMA}
 OUTPUT_KEYS = {"vtu", "steps", "volume_steps", "single", "pictures", "history"}
@@ -386,6 +392,46 @@ def inclusions_from_tables(tables):
     return bodies
 
 
+def dispersions_from_tables(tables):
+    """The ellipsoids of the ``[[dispersions]]`` tables of a scenario, all tables' bodies in one list.
+
+    Each table holds the arguments of :func:`framework.inclusions.random_dispersion`: ``fraction``, ``region =
+    [[x1 lo, hi], [x2 lo, hi], [x3 lo, hi]]`` [m], ``radius`` [m] (or ``[[radius, weight], ...]``), ``material``
+    as an ``[[inclusions]]`` table gives it (``{young, poisson}`` or ``{stiffness = 6x6}``), ``seed`` (required:
+    the same bodies each time the file is read), and optionally ``aspect``, ``orientation`` (``"random"``,
+    ``"planar"``, ``"aligned"`` or ``[d1, d2, d3]``) and ``gap`` [m]. A sweep varies them by dotted keys
+    (``"dispersions.0.fraction"``, ``"dispersions.0.seed"``).
+
+    Parameters
+    ----------
+    tables : list of dict
+        The parsed TOML array of tables.
+
+    Returns
+    -------
+    list of framework.inclusions.Ellipsoid
+        Mistakes raise :class:`ParameterError` naming ``dispersions[i].key``.
+    """
+    from .inclusions import random_dispersion
+    if not isinstance(tables, list) or not all(isinstance(table, dict) for table in tables):
+        raise ParameterError(f"dispersions: expected an array of tables ([[dispersions]] blocks), got {tables!r}")
+    bodies = []
+    for i, table in enumerate(tables):
+        name = f"dispersions[{i}]"
+        unknown = set(table) - set(DISPERSION_KEYS)
+        if unknown:
+            raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)}; expected some of {list(DISPERSION_KEYS)}")
+        missing = [key for key in DISPERSION_REQUIRED if key not in table]
+        if missing:
+            raise ParameterError(f"{name}: missing required key(s) {missing}")
+        arguments = dict(table, material=_inclusion_material(table["material"], f"{name}.material"))
+        try:
+            bodies.extend(random_dispersion(**arguments))
+        except FrameworkError as exc:  # the message names the argument: fraction, region[2], radius[1][0]...
+            raise ParameterError(f"{name}: {exc}") from exc
+    return bodies
+
+
 def _output(table):
     unknown = set(table) - OUTPUT_KEYS
     if unknown:
@@ -481,6 +527,8 @@ def parse(data, source="<scenario>", *, folder=None, memory=None):
             raise ParameterError(f"options: {exc}") from exc
         output = _output(data.get("output", {}))
         bodies = inclusions_from_tables(data["inclusions"]) if "inclusions" in data else None
+        if "dispersions" in data:
+            bodies = (bodies or []) + dispersions_from_tables(data["dispersions"])
         if memory is not None:
             _check_memory(grid, material, bodies, options, memory)
         try:

@@ -7,7 +7,8 @@
 """
 from .bodies import (MIN_CELLS_PER_SEMI_AXIS, Ellipsoid, InclusionSet, axis_angle_orientation, contact_function,
                      euler_orientation)
+from .dispersion import random_dispersion
 from .field import InclusionSolution, solve_inclusions
 
 __all__ = ["MIN_CELLS_PER_SEMI_AXIS", "Ellipsoid", "InclusionSet", "axis_angle_orientation", "contact_function",
-           "euler_orientation", "InclusionSolution", "solve_inclusions"]
+           "euler_orientation", "InclusionSolution", "solve_inclusions", "random_dispersion"]
