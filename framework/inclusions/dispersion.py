@@ -1,13 +1,14 @@
 """Random dispersions of inhomogeneities: particles and short fibres filling a region of the subsurface.
 
-:func:`random_dispersion` places spheres or prolate spheroids by random sequential addition (Widom 1966;
-Feder 1980), the largest first: each body gets its orientation once, then centres drawn uniformly where it lies
+:func:`random_dispersion` places spheres or prolate spheroids by random sequential addition (Widom 1966,
+J. Chem. Phys. 44, 3888), the largest first: each body gets its orientation once, then centres drawn uniformly where it lies
 wholly inside the region until one leaves every placed body at least ``gap`` away. The overlap test is the
 Perram-Wertheim contact function (:func:`~framework.inclusions.bodies.contact_function`) of the bodies grown by
-half the gap, behind three cheaper tests that settle most pairs: a spatial hash of the centres (only bodies in the
-neighbouring cells are compared), their bounding spheres (disjoint: no overlap) and inscribed spheres (crossing: an
-overlap), and the contact function's defining maximum sampled on a few ``lambda`` (any sample above 1 proves the
-pair disjoint). Only the pairs left undecided call the exact contact function.
+half the gap, behind cheaper tests that settle most pairs: a spatial hash of the centres (only bodies in the
+neighbouring cells are compared), their bounding spheres (apart: disjoint) and inscribed spheres (crossing: an
+overlap), points of either long axis inside the other body (an overlap), and the contact function's defining maximum
+sampled on a few ``lambda`` (any sample above 1 proves the pair disjoint). Only the pairs left undecided call the
+exact contact function.
 
 Random sequential addition jams: monodisperse spheres stop near a volume fraction of 0.38 (Torquato, Uche &
 Stillinger 2006, Phys. Rev. E 74, 061308), elongated bodies far lower; beyond, :func:`random_dispersion` raises
@@ -39,6 +40,9 @@ LAMBDA_SAMPLES = np.linspace(0.0, 1.0, 17)[1:-1]
 #: (:func:`_growth`): the shortfall of the support function is smooth in the angle, so 2049 samples find its least
 #: value to ~1e-7 of the gap.
 GROWTH_SAMPLES = 2049
+#: Points along a body's long axis, as fractions of its long semi-axis, that prove an overlap when one lies inside the
+#: other body: crossing fibres mostly hold one, and settle without the contact function.
+AXIS_POINTS = np.linspace(-1.0, 1.0, 13)[1:-1]
 ORIENTATIONS = ("random", "planar", "aligned")
 
 
@@ -188,6 +192,7 @@ class _Placed:
         self.cells = {}
         self.count = 0
         self.centers, self.shapes = np.zeros((capacity, 3)), np.zeros((capacity, 3, 3))
+        self.forms, self.axes = np.zeros((capacity, 3, 3)), np.zeros((capacity, 3))   # A^-1 [1/m^2], long axis [m]
         self.outer, self.inner = np.zeros(capacity), np.zeros(capacity)
         self.grown = []
 
@@ -204,11 +209,12 @@ class _Placed:
                     found.extend(self.cells.get((i + di, j + dj, k + dk), ()))
         return np.array(found, dtype=int)
 
-    def free(self, center, shape, outer, inner, grown):
+    def free(self, center, shape, form, axis, outer, inner, grown):
         """Whether a grown body of ``center``, ``shape`` matrix and sphere radii leaves every placed one disjoint.
 
-        Disjoint: Perram-Wertheim contact function > 1 + tolerance; ``grown()`` makes the body as an
-        :class:`Ellipsoid` for the pairs only the exact contact function settles.
+        Disjoint: Perram-Wertheim contact function > 1 + tolerance. ``form`` is the inverse of ``shape``, ``axis``
+        the long semi-axis as a vector [m]; ``grown()`` makes the body as an :class:`Ellipsoid` for the pairs only the
+        exact contact function settles.
         """
         near = self.neighbours(center)
         if len(near) == 0:
@@ -224,6 +230,13 @@ class _Placed:
         spheres = (self.outer[near] == self.inner[near]) & (outer == inner)
         if np.any(spheres):
             return False  # two spheres, the bounding spheres are the bodies: they touch within the tolerance
+        # a point of either long axis inside the other body
+        mine = center + AXIS_POINTS[:, None] * axis - self.centers[near][:, None]                 # (pairs, points, 3)
+        if np.any(np.einsum("npi,nij,npj->np", mine, self.forms[near], mine) <= 1.0):
+            return False
+        theirs = self.centers[near][:, None] + AXIS_POINTS[:, None] * self.axes[near][:, None] - center
+        if np.any(np.einsum("npi,ij,npj->np", theirs, form, theirs) <= 1.0):
+            return False
         # F(lambda) = lambda (1 - lambda) r^T [(1 - lambda) A + lambda B]^-1 r at a few lambda, all pairs at once
         lam = LAMBDA_SAMPLES[None, :, None, None]
         matrices = (1.0 - lam) * self.shapes[near][:, None] + lam * shape
@@ -237,10 +250,11 @@ class _Placed:
         body = grown()
         return all(contact_function(self.grown[n], body) > 1.0 + TOUCH_TOLERANCE for n in undecided)
 
-    def add(self, body, outer, inner):
+    def add(self, body, form, axis, outer, inner):
         n = self.count
         self.cells.setdefault(self._key(np.asarray(body.center)), []).append(n)
         self.centers[n], self.shapes[n], self.outer[n], self.inner[n] = body.center, body.shape_matrix, outer, inner
+        self.forms[n], self.axes[n] = form, axis
         self.grown.append(body)
         self.count += 1
 
@@ -333,9 +347,11 @@ def random_dispersion(fraction, region, radius, material, *, aspect=1.0, orienta
             half = np.sqrt(np.square(rotation * semi_axes).sum(axis=1))   # the body's half-extent along x1, x2, x3
             low, span = bounds[:, 0] + half, sides - 2.0 * half
             shape = (rotation * np.square(grown_axes)) @ rotation.T
+            form = (rotation / np.square(grown_axes)) @ rotation.T
+            axis = grown_axes[0] * rotation[:, 0]
             for _attempt in range(MAX_ATTEMPTS):
                 center = low + span * rng.random(3)
-                if placed.free(center, shape, grown_axes[0], grown_axes[1],
+                if placed.free(center, shape, form, axis, grown_axes[0], grown_axes[1],
                                partial(Ellipsoid, center, grown_axes, material, rotation)):
                     break
             else:
@@ -346,7 +362,7 @@ def random_dispersion(fraction, region, radius, material, *, aspect=1.0, orienta
                     f"{size:.6g} m, aspect {aspect:g}) found no room in {MAX_ATTEMPTS} attempts; random "
                     f"sequential addition jams near 0.38 for spheres and lower for elongated bodies or a wide gap: "
                     f"expected a smaller fraction or gap")
-            placed.add(Ellipsoid(center, grown_axes, material, rotation), grown_axes[0], grown_axes[1])
+            placed.add(Ellipsoid(center, grown_axes, material, rotation), form, axis, grown_axes[0], grown_axes[1])
             bodies.append(Ellipsoid(center, semi_axes, material, rotation))
             volume += bodies[-1].volume
     return InclusionSet(bodies)
