@@ -301,9 +301,11 @@ def key_parities(key):
 #: The 21 entries ``a <= b`` of ``C : D``, in the order of the stored spectra.
 ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 
-#: Boxes of more FFT points than this plan their 3-D transforms by estimate (FFTW_MEASURE would take
-#: seconds); smaller ones measure (a 60 x 64 x 60 pair: 1.4 ms measured, 2.5 ms estimated).
-MEASURED_FFT_POINTS = 2 ** 21
+#: Boxes of more FFT points than this plan their 3-D transforms by estimate; smaller ones measure, which
+#: pays within a few products of an iterative solve: a 60 x 64 x 60 pair 1.4 ms measured, 2.5 ms estimated;
+#: 256^3 (a 128^3 box) forward 148 ms and inverse 179 ms measured against 611 and 682 ms estimated, for 5.6 s
+#: of planning (this machine, one thread), where a solve takes 12 of them a product, 10 to 20 products.
+MEASURED_FFT_POINTS = 2 ** 25
 
 
 def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell):
