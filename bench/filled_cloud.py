@@ -48,7 +48,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import framework as fw  # noqa: E402
 from framework import inclusions, materials  # noqa: E402
-from framework.errors import InclusionError, ResolutionWarning  # noqa: E402
+from framework.errors import InclusionError, ParameterError, ResolutionWarning  # noqa: E402
 from framework.reference import mori_tanaka  # noqa: E402
 
 #: PMMA-like matrix and glass beads [Pa, -].
@@ -61,6 +61,12 @@ HYDROSTATIC = np.eye(3) * 1e-3
 DEVIATORIC = np.diag([1e-3, -0.5e-3, -0.5e-3])
 #: Centre depth of the cloud in cloud radii.
 DEPTH = 3.0
+#: Mandel weights of the tensor-shear Voigt vectors (xx yy zz yz xz xy).
+MANDEL = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
+#: Mandel projector on the hydrostatic strains (``J``; ``I - J`` the deviatoric ones).
+HYDROSTATIC_PROJECTOR = np.pad(np.full((3, 3), 1.0 / 3.0), ((0, 3), (0, 3)))
+#: Index pairs of the Voigt order.
+PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 
 
 def bulk_shear(material):
@@ -170,7 +176,8 @@ def means(solution, grid, matrix, weights):
     """
     box_weights = weights[solution.box]
     if not np.isclose(box_weights.sum(), weights.sum()):
-        raise ValueError("the ball reaches beyond the solution's box: grow the margin")
+        raise ParameterError(f"margin: the ball reaches {weights.sum() - box_weights.sum():.4g} cuboids beyond the "
+                             f"solution's box; expected the box to hold it: grow the margin")
     total = box_weights.sum()
     stress = np.einsum("ijk,ijkc->c", box_weights, solution.stress) / total
     eigenstrain = np.einsum("ijk,ijkc->c", box_weights, solution.eigenstrain[solution.box]) / total
@@ -223,13 +230,6 @@ def concentration_shear(strain, applied, matrix):
     e = deviator(strain)
     ratio = contract(e0, e0) / contract(e, e0)
     return shear * (1.0 + (ratio - 1.0) / beta)
-
-
-#: Mandel weights of the tensor-shear Voigt vectors (xx yy zz yz xz xy).
-MANDEL = np.array([1.0, 1.0, 1.0, np.sqrt(2.0), np.sqrt(2.0), np.sqrt(2.0)])
-#: Mandel projector on the hydrostatic strains (``J``; ``I - J`` the deviatoric ones).
-HYDROSTATIC_PROJECTOR = np.pad(np.full((3, 3), 1.0 / 3.0), ((0, 3), (0, 3)))
-PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 
 
 def unit_strains(size=1e-3):
@@ -285,7 +285,7 @@ def effective_moduli(grid, matrix, bodies, middle, cloud, geometry="staircase", 
     ``box`` (cuboids of the solve's box).
     """
     if loads not in ("six", "two"):
-        raise ValueError(f"loads must be 'six' or 'two', got {loads!r}")
+        raise ParameterError(f"loads must be 'six' or 'two', got {loads!r}")
     if margin is None:   # the box around the bodies must hold the ball: grow it by the widest shortfall
         lower, upper = bodies.bounds()
         margin = max(np.max(lower - (middle - cloud)), np.max(middle + cloud - upper), 0.0) + grid.spacing[0]
