@@ -12,8 +12,9 @@ or 8 Prony terms (relaxation times 0.02-0.2 s; the longest retardation time, 0.6
 0.3 mm). Prints the machine, then
 
 1. one eigenstrain-operator product on the box (30 x 31 x 30 cuboids), best of ``--repeat``, beside
-   its floor: the same FFTs replayed alone, in the same order (the six forward and six inverse 3-D
-   transforms of the padded box, and the pruned surface transforms of the Boussinesq correction);
+   its floor: the same FFTs replayed alone, in the same order (the pruned 3-D transforms of the six
+   components on the padded box, :mod:`framework.operators.box_fft`, and the pruned surface transforms
+   of the Boussinesq correction);
    and one forward plus inverse real 3-D FFT of the box doubled in each direction (60 x 62 x 60),
    the unit of the step's cost below (an "FFT pair");
 2. per matrix: the time per step split into the contact solves, the eigenstrain products, the
@@ -73,14 +74,11 @@ def product_and_floor(operator, repeat):
     """Best time of one product and of its FFTs replayed alone (same transforms, same order)."""
     field = np.random.default_rng(0).normal(size=(*operator.shape, 6))
     operator.strain(field)                                   # plans made, kernels warm
-    _, _, _, forward, inverse = operator._plans()
+    box = operator._box_fft()
     surface = operator._surface
 
     def transforms():
-        for transform in forward:
-            transform()
-        for transform in inverse:
-            transform()
+        box.transforms_alone()                               # the box's pruned 3-D transforms
         for _ in range(surface.layers):                      # the traction's pruned forward transforms
             surface._rows()
             surface._columns()
@@ -124,6 +122,7 @@ def case(terms, cells, with_body=True):
                         inclusions=[body] if with_body else None)
     build = time.perf_counter() - begin
     contact = Timer(simulation.solve_normal)
+    boxed = Timer(simulation.boxed_solve.solve_boxed)      # (an open grid's solves go through the boxed solver)
     product = Timer(eigenstrain.HalfSpaceEigenstrain.strain)
     precondition = Timer(equivalent.EquivalentInclusionProblem._precondition)
     times = []
@@ -135,6 +134,7 @@ def case(terms, cells, with_body=True):
         return precondition(self, *args)
 
     with mock.patch.object(simulation, "solve_normal", contact), \
+            mock.patch.object(simulation.boxed_solve, "solve_boxed", boxed), \
             mock.patch.object(eigenstrain.HalfSpaceEigenstrain, "strain", strain), \
             mock.patch.object(equivalent.EquivalentInclusionProblem, "_precondition", precondition_):
         begin = time.perf_counter()
@@ -143,7 +143,7 @@ def case(terms, cells, with_body=True):
             times.append(time.perf_counter() - begin)
             records.append(record)
             begin = time.perf_counter()
-    out = dict(build=build, steps=np.array(times), contact=contact.seconds, records=records,
+    out = dict(build=build, steps=np.array(times), contact=contact.seconds + boxed.seconds, records=records,
                product=product.seconds, products=product.calls, precondition=precondition.seconds,
                rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
     if with_body:

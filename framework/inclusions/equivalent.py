@@ -264,8 +264,9 @@ class FourierPreconditioner:
 
     def __call__(self, field):
         """The preconditioned box field of a box field ``(m1, m2, m3, 6)`` (Mandel components)."""
-        return self.operator.fourier(field, lambda spectra: loops().fourier_apply(spectra, self.matrices,
-                                                                                  *self.parities), own=self.own)
+        passes = loops()
+        return self.operator.fourier(field, lambda spectra, k0, k1: passes.fourier_apply(
+            spectra, self.matrices, *self.parities, k0), own=self.own)
 
 
 @dataclass

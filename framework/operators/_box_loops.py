@@ -5,7 +5,8 @@ two spectral passes; as numpy expressions the passes cost more than the FFTs (36
 whole spectra, each a temporary). Here each is one loop:
 
 ===============  ==================================================================================
-``stiffness``    ``s <- K_direct s + K_mirror m`` in place on the six spectra ``s`` of a box, ``m``
+``stiffness``    ``s <- K_direct s + K_mirror m`` in place on the six spectra ``s`` of a box (a block of ``q3``
+                 from ``offset``: the kernels' wavenumbers ``offset ..``), ``m``
                  the mirror image's spectra (``conj(s)`` at the reversed wavenumbers ``-q1, -q2``
                  times the component's mirror sign; the phase in ``q3`` is in ``K_mirror``). The 21 kernels of each
                  term are stored for ``q1, q2 >= 0`` only (each is even or odd in ``q1`` and ``q2``:
@@ -31,7 +32,7 @@ from .. import _fused
 class _Loops:
     """The passes as loops, for numba."""
 
-    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
+    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign, offset):
         _, n1, n2, h = spectra.shape
         half1, half2 = n1 // 2, n2 // 2
         entries = first.shape[0]
@@ -78,7 +79,7 @@ class _Loops:
                 for e in range(entries):
                     a, b = first[e], second[e]
                     for k in range(h):
-                        kd, km = direct[e, j1, j2, k], mirror[e, j1, j2, k]
+                        kd, km = direct[e, j1, j2, offset + k], mirror[e, j1, j2, offset + k]
                         out_p[a, k] += kd * source_p[b, k] + km * image_p[b, k]
                         out_q[a, k] += kd * source_q[b, k] + km * image_q[b, k]
                         if a != b:
@@ -115,7 +116,7 @@ class _Loops:
                     out[p, i1, k] = g * (kernels[first + p, j1, k] * spectrum[i1, k])
 
 
-    def fourier_apply(spectra, matrices, parity1, parity2):
+    def fourier_apply(spectra, matrices, parity1, parity2, offset):
         _, n1, n2, h = spectra.shape
         half = matrices.shape[0] != n1          # stored for q1, q2 >= 0: the signs of the components' parities
         x = np.empty(6, dtype=np.complex128)
@@ -133,7 +134,7 @@ class _Loops:
                             g *= parity2[a]
                         sign[a] = g
                 for k in range(h):
-                    m = matrices[j1, j2, k]
+                    m = matrices[j1, j2, offset + k]
                     for a in range(6):
                         x[a] = sign[a] * spectra[a, i1, i2, k]
                     for a in range(6):
@@ -147,8 +148,9 @@ class NumpyLoops:
     """The same passes as numpy expressions."""
 
     @staticmethod
-    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
+    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign, offset):
         _, n1, n2, h = spectra.shape
+        direct, mirror = direct[..., offset:offset + h], mirror[..., offset:offset + h]
         half1, half2 = n1 // 2, n2 // 2
         i2 = np.arange(n2)
         j2, r2 = np.minimum(i2, n2 - i2), (n2 - i2) % n2
@@ -186,8 +188,9 @@ class NumpyLoops:
 
 
     @staticmethod
-    def fourier_apply(spectra, matrices, parity1, parity2):
-        n1, n2 = spectra.shape[1:3]
+    def fourier_apply(spectra, matrices, parity1, parity2, offset):
+        n1, n2, h = spectra.shape[1:]
+        matrices = matrices[:, :, offset:offset + h]
         if matrices.shape[0] != n1:
             rows, columns = np.arange(n1), np.arange(n2)
             j1, j2 = np.minimum(rows, n1 - rows), np.minimum(columns, n2 - columns)

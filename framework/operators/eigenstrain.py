@@ -29,6 +29,7 @@ from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
 from ._box_loops import loops
+from .box_fft import BoxFFT
 from .box_surface import BoxSurface
 
 #: The surface patch of the Boussinesq correction reaches this many box-bottom depths beyond the box.
@@ -472,8 +473,7 @@ class HalfSpaceEigenstrain:
         self._starts = [tuple(start[:2])] if starts is None else [tuple(int(c) for c in s[:2]) for s in starts]
         self._surface = BoxSurface(grid, poisson, self.patch, start, shape, traction=self._traction, starts=self._starts)
         self._grid_surface = None
-        self._transforms = None
-        self._own_transforms = None
+        self._ffts = {}
 
     def _box_spectra(self, cell):
         """Real factors of the 21 infinite-space spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` and the complex
@@ -490,17 +490,15 @@ class HalfSpaceEigenstrain:
         (top-down), unit modulus, target minus source between the faces ``faces1``, ``faces2`` [m]."""
         return surface_traction_kernels(faces1, faces2, self.start[2], self.shape[2], self.spacing[2], self.poisson)
 
-    def _plans(self):
-        """The 3-D transforms of a product and their buffers (made at the first product)."""
-        if self._transforms is None:
-            n1, n2, n3 = self.fft_shape
-            effort = "FFTW_MEASURE" if n1 * n2 * n3 <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
-            real_in, real_out = fft.zeros(self.fft_shape), fft.zeros(self.fft_shape)
-            spectra = fft.zeros((6, n1, n2, n3 // 2 + 1), complex)
-            forward = [fft.Transform(real_in, spectra[c], axes=(0, 1, 2), effort=effort) for c in range(6)]
-            inverse = [fft.Transform(spectra[c], real_out, axes=(0, 1, 2), effort=effort) for c in range(6)]
-            self._transforms = (real_in, real_out, spectra, forward, inverse)
-        return self._transforms
+    def _box_fft(self, own=False):
+        """The pruned transforms of a product on the padded lattice (``own``: on the box's own lattice), made at
+        their first use (:class:`~framework.operators.box_fft.BoxFFT`)."""
+        key = "own" if own else "padded"
+        if key not in self._ffts:
+            shape = self.own_shape if own else self.fft_shape
+            effort = "FFTW_MEASURE" if np.prod(shape) <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
+            self._ffts[key] = BoxFFT(self.shape, shape, effort=effort)
+        return self._ffts[key]
 
     def _check(self, eigenstrain):
         expected = (*self.shape, 6)
@@ -567,57 +565,17 @@ class HalfSpaceEigenstrain:
         self._surface.move(start)
         self.start = start
 
-    def _transform(self, field, weights):
-        """The six spectra of the box field ``field * weights`` (``(m1, m2, m3, 6)``), in the products' buffer."""
-        m1, m2, m3 = self.shape
-        real_in, _, spectra, forward, _ = self._plans()
-        for c in range(6):
-            np.multiply(field[..., c], weights[c], out=real_in[:m1, :m2, :m3])
-            forward[c]()
-        return spectra
-
-    def _transform_back(self, weights):
-        """The box field ``(m1, m2, m3, 6)`` of the buffer's six spectra, times ``weights`` (the spectra are spent)."""
-        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
-        _, real_out, _, _, inverse = self._plans()
-        out = np.empty((m1, m2, m3, 6))
-        scale = 1.0 / (n1 * n2 * n3)
-        for c in range(6):
-            inverse[c]()
-            np.multiply(real_out[:m1, :m2, :m3], scale * weights[c], out=out[..., c])
-        return out
-
     def fourier(self, field, multiply, own=False):
         """``F^-1 [multiply(F field)]`` on the padded box, for a box field ``(m1, m2, m3, 6)`` (Mandel components).
 
-        ``multiply(spectra)`` changes the six spectra ``(6, N1, N2, N3/2 + 1)`` in place; the box
-        part of the result is returned. For preconditioners that act on the box as if it were
-        one homogeneous periodic cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`).
-        ``own``: on the box's own lattice instead, half the padded one along each axis (:attr:`own_shape`,
-        eight times fewer points), whose spectra :meth:`infinite_spectra` gives with ``own=True``.
+        ``multiply(spectra, k0, k1)`` changes the six spectra ``(6, N1, N2, k1 - k0)`` of the wavenumbers
+        ``q3 = k0 .. k1 - 1`` in place (:class:`~framework.operators.box_fft.BoxFFT`); the box part of the
+        result is returned. For preconditioners that act on the box as if it were one homogeneous periodic
+        cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`). ``own``: on the box's own
+        lattice instead, half the padded one along each axis (:attr:`own_shape`, eight times fewer points),
+        whose spectra :meth:`infinite_spectra` gives with ``own=True``.
         """
-        if not own:
-            multiply(self._transform(field, np.ones(6)))
-            return self._transform_back(np.ones(6))
-        m1, m2, m3 = self.shape
-        if self._own_transforms is None:
-            shape = self.own_shape
-            real_in, real_out = fft.zeros(shape), fft.zeros(shape)
-            spectra = fft.zeros((6, shape[0], shape[1], shape[2] // 2 + 1), complex)
-            self._own_transforms = (real_in, real_out, spectra,
-                                    [fft.Transform(real_in, spectra[c], axes=(0, 1, 2)) for c in range(6)],
-                                    [fft.Transform(spectra[c], real_out, axes=(0, 1, 2)) for c in range(6)])
-        real_in, real_out, spectra, forward, inverse = self._own_transforms
-        for c in range(6):
-            real_in[:m1, :m2, :m3] = field[..., c]
-            forward[c]()
-        multiply(spectra)
-        out = np.empty((m1, m2, m3, 6))
-        scale = 1.0 / np.prod(self.own_shape)
-        for c in range(6):
-            inverse[c]()
-            np.multiply(real_out[:m1, :m2, :m3], scale, out=out[..., c])
-        return out
+        return self._box_fft(own).apply(field, multiply)
 
     @property
     def own_shape(self):
@@ -642,9 +600,11 @@ class HalfSpaceEigenstrain:
         surface patch is the grid (a rolling run's box) it shares the correction's transforms.
         """
         eigenstrain = self._check(eigenstrain)
-        spectra = self._transform(eigenstrain, MANDEL)
-        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
-        stress = self._transform_back(1.0 / MANDEL)
+        passes = loops()
+        stress = self._box_fft().apply(
+            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, self._direct, self._mirror, *self._entries,
+                                                                  *self._parities, MIRROR, k0),
+            MANDEL, 1.0 / MANDEL)
         surface = self._surface
         shared = displacement and surface is self._grid_map()
         spectra = surface.surface(eigenstrain, "traction", *(("betti",) if shared else ()), weights=CONTRACTION)

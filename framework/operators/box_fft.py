@@ -1,0 +1,120 @@
+"""Pruned 3-D FFTs of a box of cuboids on its padded lattice, a block of ``q3`` wavenumbers at a time.
+
+A box field ``(m1, m2, m3)`` zero-padded to ``N1 x N2 x N3`` (each ``N >= 2 m``, so that circular
+convolutions are linear) has most of its padded lattice zero, and a product needs its result on the
+box only. The 3-D transform is taken one axis at a time, each over the lines that can be nonzero
+(forward) or that are needed (inverse):
+
+- along ``x3`` (real to complex): the ``m1 m2`` lines of the box (of the ``N1 N2`` of the lattice);
+- along ``x2``: the ``m1`` rows of ``x1`` the box covers, for each ``q3``;
+- along ``x1``: every line, for each ``q3``.
+
+That is half the work of the whole lattice's transforms (``8 m^3`` against ``16 m^3`` line points
+for ``N = 2 m``). The spectral pass between the forward and inverse transforms acts on each ``q3``
+alone (the passes of :mod:`framework.operators._box_loops` pair ``q1, q2`` with ``-q1, -q2`` only),
+so the spectra are held for a block of ``q3`` at a time: ``6 N1 N2 b`` values instead of
+``6 N1 N2 (N3/2 + 1)``, and no padded real array: memory follows the box, not its padded lattice.
+"""
+import numpy as np
+
+from .. import fft
+
+#: Memory the spectra of one block of ``q3`` wavenumbers may take [bytes] (a small box takes them all at once).
+#: Shorter blocks cost the spectral pass its runs along ``q3``: on a 256 x 256 x 256 lattice it takes
+#: 0.62 s a product in one block, 0.74 s in blocks of 65, 0.81-0.85 in blocks of 19-33, 1.3 s in blocks of 10.
+BLOCK_BYTES = 128 * 2**20
+
+
+class BoxFFT:
+    """``F^-1 [pass(F field)]`` on the padded lattice of a box, restricted to the box, for six components.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        The box ``(m1, m2, m3)``.
+    fft_shape : tuple of int
+        The padded lattice ``(N1, N2, N3)``, each at least the box's.
+    effort : str
+        FFTW's planner flag for the transforms.
+    block_bytes : int
+        Memory of the spectra of one block of ``q3`` [bytes].
+    """
+
+    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES):
+        self.shape, self.fft_shape = tuple(shape), tuple(fft_shape)
+        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        self.h = n3 // 2 + 1
+        largest = int(max(1, min(self.h, block_bytes // (6 * n1 * n2 * 16))))
+        self.block = -(-self.h // -(-self.h // largest))         # blocks of even sizes: the passes like long runs
+        # along x3: the box's lines, zero-padded once (the padding is never written)
+        self._lines_in = fft.zeros((m1, m2, n3))
+        self._lines = fft.zeros((6, m1, m2, self.h), complex)         # the box's lines' spectra, all q3
+        self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort) for c in range(6)]
+        self._lines_out = fft.zeros((m1, m2, n3))
+        self._line_spectrum = fft.zeros((m1, m2, self.h), complex)
+        self._line_inverse = fft.Transform(self._line_spectrum, self._lines_out, axes=(2,), effort=effort)
+        # a block of q3: along x2 on the box's rows of x1, along x1 on every line
+        self.effort = effort
+        self._plans = {}
+
+    def _block_plans(self, size):
+        """Buffer ``(6, N1, N2, size)`` and its transforms (for the block size and for the last, shorter one)."""
+        if size not in self._plans:
+            m1 = self.shape[0]
+            n1, n2 = self.fft_shape[:2]
+            spectra = fft.zeros((6, n1, n2, size), complex)
+            rows = spectra[:, :m1]
+            effort = self.effort
+            self._plans[size] = (spectra,
+                                 fft.Transform(rows, rows, axes=(2,), effort=effort),                # x2, box rows
+                                 fft.Transform(spectra, spectra, axes=(1,), effort=effort),          # x1, all lines
+                                 fft.Transform(spectra, spectra, axes=(1,), inverse=True, effort=effort),
+                                 fft.Transform(rows, rows, axes=(2,), inverse=True, effort=effort))
+        return self._plans[size]
+
+    def apply(self, field, spectral_pass, weights_in=None, weights_out=None):
+        """The box field ``(m1, m2, m3, 6)`` of ``F^-1 [spectral_pass(F (field * weights_in))] * weights_out``.
+
+        ``spectral_pass(spectra, k0, k1)`` changes the six spectra ``(6, N1, N2, k1 - k0)`` of the
+        wavenumbers ``q3 = k0 .. k1 - 1`` in place (``q1, q2`` over the whole lattice, unnormalised);
+        the result is normalised by the lattice's number of points.
+        """
+        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        ones = np.ones(6)
+        weights_in = ones if weights_in is None else weights_in
+        weights_out = ones if weights_out is None else weights_out
+        for c in range(6):
+            np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
+            self._line_forward[c]()
+        for k0 in range(0, self.h, self.block):
+            k1 = min(self.h, k0 + self.block)
+            spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
+            spectra[...] = 0.0
+            spectra[:, :m1, :m2] = self._lines[:, :, :, k0:k1]
+            rows_forward()
+            forward()
+            spectral_pass(spectra, k0, k1)
+            inverse()
+            rows_inverse()
+            self._lines[:, :, :, k0:k1] = spectra[:, :m1, :m2]
+        out = np.empty((m1, m2, m3, 6))
+        scale = 1.0 / (n1 * n2 * n3)
+        for c in range(6):
+            self._line_spectrum[...] = self._lines[c]
+            self._line_inverse()
+            np.multiply(self._lines_out[:, :, :m3], scale * weights_out[c], out=out[..., c])
+        return out
+
+    def transforms_alone(self):
+        """Run the transforms of one :meth:`apply`, in its order, without the copies and the pass: the FFT
+        work a product must do (the benches' floor)."""
+        for c in range(6):
+            self._line_forward[c]()
+        for k0 in range(0, self.h, self.block):
+            _, rows_forward, forward, inverse, rows_inverse = self._block_plans(min(self.h, k0 + self.block) - k0)
+            rows_forward()
+            forward()
+            inverse()
+            rows_inverse()
+        for _ in range(6):
+            self._line_inverse()

@@ -1,0 +1,47 @@
+"""The pruned box transforms (:class:`framework.operators.box_fft.BoxFFT`) against numpy's whole-lattice FFTs.
+
+A box field zero-padded to its lattice, transformed by ``numpy.fft.rfftn``, multiplied by a spectral factor
+per component and transformed back by ``irfftn``, cut to the box: the pruned transforms (lines of the box
+along x3, rows of the box along x2, every line along x1, a block of q3 at a time) give the same to 1e-14 of
+its largest value, for boxes on padded lattices, on their own lattice (no padding) and with odd sizes, in
+one block or several.
+"""
+import numpy as np
+import pytest
+
+from framework.operators.box_fft import BoxFFT
+
+
+@pytest.mark.parametrize("shape, fft_shape, blocks", [
+    ((5, 6, 7), (10, 12, 14), 1),          # padded, the spectra at once
+    ((5, 6, 7), (10, 12, 14), 3),          # several blocks of q3 (the last one shorter)
+    ((7, 4, 9), (15, 8, 18), 4),           # odd lattice sizes
+    ((6, 6, 6), (6, 6, 6), 1),             # the box's own lattice: nothing padded
+    ((3, 5, 4), (7, 5, 9), 2),
+])
+def test_pruned_transforms_equal_the_whole_lattices(shape, fft_shape, blocks):
+    rng = np.random.default_rng(1)
+    field = rng.normal(size=(*shape, 6))
+    h = fft_shape[2] // 2 + 1
+    factor = rng.normal(size=(6, *fft_shape[:2], h)) + 1j * rng.normal(size=(6, *fft_shape[:2], h))
+    per_block = -(-h // blocks)
+    box = BoxFFT(shape, fft_shape, block_bytes=6 * fft_shape[0] * fft_shape[1] * 16 * per_block)
+    assert box.block == per_block
+    weights_in, weights_out = np.arange(1.0, 7.0), 1.0 / np.arange(2.0, 8.0)
+    seen = []
+
+    def spectral_pass(spectra, k0, k1):
+        seen.append((k0, k1))
+        spectra *= factor[..., k0:k1]
+
+    out = box.apply(field, spectral_pass, weights_in, weights_out)
+    assert seen[0][0] == 0 and seen[-1][1] == h and all(a[1] == b[0] for a, b in zip(seen, seen[1:]))
+    expected = np.empty_like(out)
+    for c in range(6):
+        padded = np.zeros(fft_shape)
+        padded[:shape[0], :shape[1], :shape[2]] = field[..., c] * weights_in[c]
+        back = np.fft.irfftn(np.fft.rfftn(padded) * factor[c], s=fft_shape, axes=(0, 1, 2))
+        expected[..., c] = back[:shape[0], :shape[1], :shape[2]] * weights_out[c]
+    assert np.abs(out - expected).max() <= 1e-14 * np.abs(expected).max()
+    again = box.apply(field, spectral_pass, weights_in, weights_out)    # the buffers' padding stays zero
+    assert np.array_equal(again, out)
