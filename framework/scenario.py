@@ -354,19 +354,11 @@ def inclusions_from_tables(tables):
         Mistakes raise :class:`ParameterError` naming ``inclusions[i].key``.
     """
     from .inclusions import Ellipsoid, euler_orientation
-    if not isinstance(tables, list) or not all(isinstance(table, dict) for table in tables):
-        raise ParameterError(f"inclusions: expected an array of tables ([[inclusions]] blocks), got {tables!r}")
     bodies = []
-    for i, table in enumerate(tables):
-        name = f"inclusions[{i}]"
-        unknown = set(table) - INCLUSION_KEYS
-        if unknown:
-            raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)}; expected some of {sorted(INCLUSION_KEYS)}")
+    required = ("center", "semi_axes", "material")
+    for name, table in _array_of_tables(tables, "inclusions", sorted(INCLUSION_KEYS), required):
         if table.get("type", "Ellipsoid") != "Ellipsoid":
             raise ParameterError(f"{name}.type: expected 'Ellipsoid' (the only shape), got {table['type']!r}")
-        missing = [key for key in ("center", "semi_axes", "material") if key not in table]
-        if missing:
-            raise ParameterError(f"{name}: missing required key(s) {missing}")
         if "orientation" in table and "euler" in table:
             raise ParameterError(f"{name}: give orientation (a 3x3 matrix) or euler (angles in degrees), not both")
         if "convention" in table and "euler" not in table:
@@ -392,6 +384,22 @@ def inclusions_from_tables(tables):
     return bodies
 
 
+def _array_of_tables(tables, kind, keys, required):
+    """``(name, table)`` of each table of a TOML array of tables ``[[kind]]``, its keys checked: none but ``keys``,
+    all of ``required`` (a mistake raises :class:`ParameterError` naming ``kind[i]``)."""
+    if not isinstance(tables, list) or not all(isinstance(table, dict) for table in tables):
+        raise ParameterError(f"{kind}: expected an array of tables ([[{kind}]] blocks), got {tables!r}")
+    for i, table in enumerate(tables):
+        name = f"{kind}[{i}]"
+        unknown = set(table) - set(keys)
+        if unknown:
+            raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)}; expected some of {list(keys)}")
+        missing = [key for key in required if key not in table]
+        if missing:
+            raise ParameterError(f"{name}: missing required key(s) {missing}")
+        yield name, table
+
+
 def dispersions_from_tables(tables):
     """The ellipsoids of the ``[[dispersions]]`` tables of a scenario, all tables' bodies in one list.
 
@@ -413,17 +421,8 @@ def dispersions_from_tables(tables):
         Mistakes raise :class:`ParameterError` naming ``dispersions[i].key``.
     """
     from .inclusions import random_dispersion
-    if not isinstance(tables, list) or not all(isinstance(table, dict) for table in tables):
-        raise ParameterError(f"dispersions: expected an array of tables ([[dispersions]] blocks), got {tables!r}")
     bodies = []
-    for i, table in enumerate(tables):
-        name = f"dispersions[{i}]"
-        unknown = set(table) - set(DISPERSION_KEYS)
-        if unknown:
-            raise ParameterError(f"{name}: unknown key(s) {sorted(unknown)}; expected some of {list(DISPERSION_KEYS)}")
-        missing = [key for key in DISPERSION_REQUIRED if key not in table]
-        if missing:
-            raise ParameterError(f"{name}: missing required key(s) {missing}")
+    for name, table in _array_of_tables(tables, "dispersions", list(DISPERSION_KEYS), DISPERSION_REQUIRED):
         arguments = dict(table, material=_inclusion_material(table["material"], f"{name}.material"))
         try:
             bodies.extend(random_dispersion(**arguments))
