@@ -45,3 +45,23 @@ def test_pruned_transforms_equal_the_whole_lattices(shape, fft_shape, blocks):
     assert np.abs(out - expected).max() <= 1e-14 * np.abs(expected).max()
     again = box.apply(field, spectral_pass, weights_in, weights_out)    # the buffers' padding stays zero
     assert np.array_equal(again, out)
+
+
+def test_kernels_held_in_blocks_give_the_same_product(monkeypatch):
+    """An operator whose kernels and spectra are held a block of q3 at a time (a large box's; here forced on a
+    small one by a small block size) gives the product of the one-block operator to 1e-14, and the same
+    whole-lattice and own-lattice infinite-space spectra."""
+    import framework as fw
+    from framework.operators import box_fft, eigenstrain
+    grid = fw.Grid(shape=(16, 14), size=(16e-6, 14e-6), depth=12e-6, layers=12)
+    field = np.random.default_rng(3).normal(size=(9, 8, 7, 6))
+    one = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
+    monkeypatch.setattr(box_fft, "BLOCK_BYTES", 6 * 18 * 16 * 16 * 2)      # blocks of two q3
+    monkeypatch.setattr(eigenstrain, "q3_blocks", lambda shape: box_fft.q3_blocks(shape, box_fft.BLOCK_BYTES))
+    several = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
+    several._ffts["padded"] = box_fft.BoxFFT(several.shape, several.fft_shape, block_bytes=box_fft.BLOCK_BYTES)
+    assert one.fft_shape == (18, 16, 16) and len(several._kernel_blocks) == 5      # q3 = 0 .. 8 by twos
+    expected = one.strain(field)
+    assert np.abs(several.strain(field) - expected).max() <= 1e-14 * np.abs(expected).max()
+    for own in (False, True):
+        assert np.array_equal(several.infinite_spectra(own)[0], one.infinite_spectra(own)[0])

@@ -258,7 +258,7 @@ class FourierPreconditioner:
         """Whether the matrices for these inhomogeneities' stiffnesses (Mandel) take at most :data:`FOURIER_BYTES`."""
         n1, n2, n3 = operator.own_shape if own else operator.fft_shape
         isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
-                        for p in operator.infinite_spectra()[2] for c in stiffnesses)
+                        for p in operator.kernel_parities for c in stiffnesses)
         rows, columns = (n1 // 2 + 1, n2 // 2 + 1) if isotropic else (n1, n2)
         return rows * columns * (n3 // 2 + 1) * 36 * 8 <= FOURIER_BYTES
 

@@ -78,8 +78,10 @@ class _Loops:
                         out_q[c, k] = 0.0
                 for e in range(entries):
                     a, b = first[e], second[e]
+                    direct_k = direct[e, j1, j2, offset:offset + h]    # (a view: the loop below runs unit stride)
+                    mirror_k = mirror[e, j1, j2, offset:offset + h]
                     for k in range(h):
-                        kd, km = direct[e, j1, j2, offset + k], mirror[e, j1, j2, offset + k]
+                        kd, km = direct_k[k], mirror_k[k]
                         out_p[a, k] += kd * source_p[b, k] + km * image_p[b, k]
                         out_q[a, k] += kd * source_q[b, k] + km * image_q[b, k]
                         if a != b:

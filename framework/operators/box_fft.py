@@ -25,6 +25,16 @@ from .. import fft
 BLOCK_BYTES = 128 * 2**20
 
 
+def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES):
+    """The blocks ``[(k0, k1), ...]`` of ``q3`` wavenumbers (``0 .. N3/2``) whose six spectra on the lattice
+    ``fft_shape`` take at most ``block_bytes`` each, of even sizes (the passes like long runs)."""
+    n1, n2, n3 = fft_shape
+    h = n3 // 2 + 1
+    largest = int(max(1, min(h, block_bytes // (6 * n1 * n2 * 16))))
+    size = -(-h // -(-h // largest))
+    return [(k0, min(h, k0 + size)) for k0 in range(0, h, size)]
+
+
 class BoxFFT:
     """``F^-1 [pass(F field)]`` on the padded lattice of a box, restricted to the box, for six components.
 
@@ -44,8 +54,8 @@ class BoxFFT:
         self.shape, self.fft_shape = tuple(shape), tuple(fft_shape)
         (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
         self.h = n3 // 2 + 1
-        largest = int(max(1, min(self.h, block_bytes // (6 * n1 * n2 * 16))))
-        self.block = -(-self.h // -(-self.h // largest))         # blocks of even sizes: the passes like long runs
+        self.blocks = q3_blocks(self.fft_shape, block_bytes)
+        self.block = self.blocks[0][1]
         # along x3: the box's lines, zero-padded once (the padding is never written)
         self._lines_in = fft.zeros((m1, m2, n3))
         self._lines = fft.zeros((6, m1, m2, self.h), complex)         # the box's lines' spectra, all q3
@@ -86,8 +96,7 @@ class BoxFFT:
         for c in range(6):
             np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
             self._line_forward[c]()
-        for k0 in range(0, self.h, self.block):
-            k1 = min(self.h, k0 + self.block)
+        for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             spectra[...] = 0.0
             spectra[:, :m1, :m2] = self._lines[:, :, :, k0:k1]
@@ -110,8 +119,8 @@ class BoxFFT:
         work a product must do (the benches' floor)."""
         for c in range(6):
             self._line_forward[c]()
-        for k0 in range(0, self.h, self.block):
-            _, rows_forward, forward, inverse, rows_inverse = self._block_plans(min(self.h, k0 + self.block) - k0)
+        for k0, k1 in self.blocks:
+            _, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             rows_forward()
             forward()
             inverse()
