@@ -123,7 +123,8 @@ def test_cloud_of_100_against_mori_tanaka():
 
 @pytest.mark.slow
 def test_excess_over_mori_tanaka_with_the_cuboid():
-    """One 25-sphere cloud (the same centres in radii) at 6, 8 and 12 cuboids per diameter, six loads (254 s): Hill's excess over Mori-Tanaka falls as the cuboid shrinks (measured shear +1.31, +1.29,
+    """One 25-sphere cloud (the same centres in radii) at 6, 8 and 12 cuboids per diameter, six loads (254 s):
+    Hill's excess over Mori-Tanaka falls as the cuboid shrinks (measured shear +1.31, +1.29,
     +1.13 %, bulk +0.56, +0.50, +0.40 %); its straight line in the cuboid size meets zero size at +0.97 % in
     shear and +0.25 % in bulk. The staircase's part is the smaller one; what stays, below 1.5 % and 0.5 %, is
     the composite's own excess over Mori-Tanaka (the Hashin-Shtrikman lower bound)."""
