@@ -65,3 +65,19 @@ def test_kernels_held_in_blocks_give_the_same_product(monkeypatch):
     assert np.abs(several.strain(field) - expected).max() <= 1e-14 * np.abs(expected).max()
     for own in (False, True):
         assert np.array_equal(several.infinite_spectra(own)[0], one.infinite_spectra(own)[0])
+
+
+def test_transforms_planned_again_by_measurement(monkeypatch):
+    """Asked to measure, the transforms are planned by estimate for the first MEASURE_AFTER applications, then
+    by measurement: the same results to rounding, the zero padding kept."""
+    from framework.operators import box_fft
+    monkeypatch.setattr(box_fft, "MEASURE_AFTER", 2)
+    field = np.random.default_rng(4).normal(size=(5, 6, 7, 6))
+    box = BoxFFT((5, 6, 7), (10, 12, 14), effort="FFTW_MEASURE")
+    first = box.apply(field, lambda spectra, k0, k1: None)
+    assert box.effort == "FFTW_ESTIMATE"
+    second = box.apply(field, lambda spectra, k0, k1: None)
+    assert box.effort == "FFTW_MEASURE"
+    for out in (second, box.apply(field, lambda spectra, k0, k1: None)):
+        assert np.abs(out - first).max() <= 1e-14 * np.abs(first).max()
+    assert np.abs(first - field).max() <= 1e-14 * np.abs(field).max()       # no pass: the field itself

@@ -5,8 +5,8 @@ two spectral passes; as numpy expressions the passes cost more than the FFTs (36
 whole spectra, each a temporary). Here each is one loop:
 
 ===============  ==================================================================================
-``stiffness``    ``s <- K_direct s + K_mirror m`` in place on the six spectra ``s`` of a box (a block of ``q3``
-                 from ``offset``: the kernels' wavenumbers ``offset ..``), ``m``
+``stiffness``    ``s <- K_direct s + K_mirror m`` in place on the six spectra ``s`` of a box (or of a block
+                 of ``q3``, with the kernels of that block), ``m``
                  the mirror image's spectra (``conj(s)`` at the reversed wavenumbers ``-q1, -q2``
                  times the component's mirror sign; the phase in ``q3`` is in ``K_mirror``). The 21 kernels of each
                  term are stored for ``q1, q2 >= 0`` only (each is even or odd in ``q1`` and ``q2``:
@@ -32,7 +32,7 @@ from .. import _fused
 class _Loops:
     """The passes as loops, for numba."""
 
-    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign, offset):
+    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
         _, n1, n2, h = spectra.shape
         half1, half2 = n1 // 2, n2 // 2
         entries = first.shape[0]
@@ -78,10 +78,8 @@ class _Loops:
                         out_q[c, k] = 0.0
                 for e in range(entries):
                     a, b = first[e], second[e]
-                    direct_k = direct[e, j1, j2, offset:offset + h]    # (a view: the loop below runs unit stride)
-                    mirror_k = mirror[e, j1, j2, offset:offset + h]
                     for k in range(h):
-                        kd, km = direct_k[k], mirror_k[k]
+                        kd, km = direct[e, j1, j2, k], mirror[e, j1, j2, k]
                         out_p[a, k] += kd * source_p[b, k] + km * image_p[b, k]
                         out_q[a, k] += kd * source_q[b, k] + km * image_q[b, k]
                         if a != b:
@@ -150,9 +148,8 @@ class NumpyLoops:
     """The same passes as numpy expressions."""
 
     @staticmethod
-    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign, offset):
+    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
         _, n1, n2, h = spectra.shape
-        direct, mirror = direct[..., offset:offset + h], mirror[..., offset:offset + h]
         half1, half2 = n1 // 2, n2 // 2
         i2 = np.arange(n2)
         j2, r2 = np.minimum(i2, n2 - i2), (n2 - i2) % n2

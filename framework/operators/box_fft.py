@@ -19,6 +19,11 @@ import numpy as np
 
 from .. import fft
 
+#: Applications planned by FFTW's estimate before the transforms are planned again by measurement (where asked):
+#: measuring costs more than it saves in a short solve (a 64^3 box: 1.6 s of planning for 85 instead of 107 ms
+#: an application) and pays within a few steps of a long run (a 30^3 box: 0.4 s, 6.3 instead of 12.4 ms).
+MEASURE_AFTER = 64
+
 #: Memory the spectra of one block of ``q3`` wavenumbers may take [bytes] (a small box takes them all at once).
 #: Shorter blocks cost the spectral pass its runs along ``q3``: on a 256 x 256 x 256 lattice it takes
 #: 0.62 s a product in one block, 0.74 s in blocks of 65, 0.81-0.85 in blocks of 19-33, 1.3 s in blocks of 10.
@@ -45,7 +50,8 @@ class BoxFFT:
     fft_shape : tuple of int
         The padded lattice ``(N1, N2, N3)``, each at least the box's.
     effort : str
-        FFTW's planner flag for the transforms.
+        FFTW's planner flag for the transforms ("FFTW_MEASURE": by estimate for the first
+        :data:`MEASURE_AFTER` applications, then measured).
     block_bytes : int
         Memory of the spectra of one block of ``q3`` [bytes].
     """
@@ -59,20 +65,30 @@ class BoxFFT:
         # along x3: the box's lines, zero-padded once (the padding is never written)
         self._lines_in = fft.zeros((m1, m2, n3))
         self._lines = fft.zeros((6, m1, m2, self.h), complex)         # the box's lines' spectra, all q3
-        self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort) for c in range(6)]
         self._lines_out = fft.zeros((m1, m2, n3))
         self._line_spectrum = fft.zeros((m1, m2, self.h), complex)
-        self._line_inverse = fft.Transform(self._line_spectrum, self._lines_out, axes=(2,), effort=effort)
-        # a block of q3: along x2 on the box's rows of x1, along x1 on every line
+        self._buffers = {}          # a block of q3's spectra, by block size
+        self.measure, self.applications = effort == "FFTW_MEASURE", 0
+        self._plan("FFTW_ESTIMATE" if self.measure else effort)
+
+    def _plan(self, effort):
+        """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are kept)."""
         self.effort = effort
+        self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort)
+                              for c in range(6)]
+        self._line_inverse = fft.Transform(self._line_spectrum, self._lines_out, axes=(2,), effort=effort)
         self._plans = {}
+        for size in self._buffers:
+            self._block_plans(size)
 
     def _block_plans(self, size):
         """Buffer ``(6, N1, N2, size)`` and its transforms (for the block size and for the last, shorter one)."""
         if size not in self._plans:
             m1 = self.shape[0]
             n1, n2 = self.fft_shape[:2]
-            spectra = fft.zeros((6, n1, n2, size), complex)
+            if size not in self._buffers:
+                self._buffers[size] = fft.zeros((6, n1, n2, size), complex)
+            spectra = self._buffers[size]
             rows = spectra[:, :m1]
             effort = self.effort
             self._plans[size] = (spectra,
@@ -90,6 +106,9 @@ class BoxFFT:
         the result is normalised by the lattice's number of points.
         """
         (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        self.applications += 1
+        if self.measure and self.applications == MEASURE_AFTER:
+            self._plan("FFTW_MEASURE")
         ones = np.ones(6)
         weights_in = ones if weights_in is None else weights_in
         weights_out = ones if weights_out is None else weights_out

@@ -335,10 +335,10 @@ def key_parities(key):
 #: The 21 entries ``a <= b`` of ``C : D``, in the order of the stored spectra.
 ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 
-#: Boxes of more FFT points than this plan their 3-D transforms by estimate; smaller ones measure, which
-#: pays within a few products of an iterative solve: a 60 x 64 x 60 pair 1.4 ms measured, 2.5 ms estimated;
-#: 256^3 (a 128^3 box) forward 148 ms and inverse 179 ms measured against 611 and 682 ms estimated, for 5.6 s
-#: of planning (this machine, one thread), where a solve takes 12 of them a product, 10 to 20 products.
+#: Boxes of more FFT points than this plan their transforms by estimate; smaller ones measure once a run has
+#: used them :data:`~framework.operators.box_fft.MEASURE_AFTER` times (whole-lattice 3-D transforms: a
+#: 60 x 64 x 60 pair 1.4 ms measured, 2.5 ms estimated; 256^3 forward 148 ms and inverse 179 ms measured against
+#: 611 and 682 ms estimated, for 5.6 s of planning; this machine, one thread).
 MEASURED_FFT_POINTS = 2 ** 25
 
 
@@ -632,7 +632,7 @@ class HalfSpaceEigenstrain:
         passes = loops()
         stress = self._box_fft().apply(
             eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernel_blocks[k0], *self._entries,
-                                                                  *self._parities, MIRROR, 0),
+                                                                  *self._parities, MIRROR),
             MANDEL, 1.0 / MANDEL)
         surface = self._surface
         shared = displacement and surface is self._grid_map()

@@ -143,7 +143,7 @@ class EigenstrainField:
         for c in range(6):
             real_in[:m1, :m2, :m3] = eigenstrain[..., c] * MANDEL[c]
             forward[c]()
-        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR, 0)
+        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
         grid = self.grid
         rows = [(np.arange(size) - s) % n for size, s, n in zip((*grid.shape, grid.layers), (s1, s2, self.start[2]),
                                                                  self.fft_shape)]
