@@ -23,6 +23,9 @@ from .. import fft
 #: measuring costs more than it saves in a short solve (a 64^3 box: 1.6 s of planning for 85 instead of 107 ms
 #: an application) and pays within a few steps of a long run (a 30^3 box: 0.4 s, 6.3 instead of 12.4 ms).
 MEASURE_AFTER = 64
+#: Lattices of more points than this are planned by measurement at once: their estimated plans (strided batches
+#: of long lines) run far slower (a 96^3 box: 730 against 393 ms an application; 128^3: 5.4 against 1.1 s).
+MEASURE_AT_ONCE_POINTS = 2 ** 22
 
 #: Memory the spectra of one block of ``q3`` wavenumbers may take [bytes] (a small box takes them all at once).
 #: Shorter blocks cost the spectral pass its runs along ``q3``: on a 256 x 256 x 256 lattice it takes
@@ -50,8 +53,9 @@ class BoxFFT:
     fft_shape : tuple of int
         The padded lattice ``(N1, N2, N3)``, each at least the box's.
     effort : str
-        FFTW's planner flag for the transforms ("FFTW_MEASURE": by estimate for the first
-        :data:`MEASURE_AFTER` applications, then measured).
+        FFTW's planner flag for the transforms ("FFTW_MEASURE": on a lattice of at most
+        :data:`MEASURE_AT_ONCE_POINTS` points by estimate for the first :data:`MEASURE_AFTER`
+        applications, then measured).
     block_bytes : int
         Memory of the spectra of one block of ``q3`` [bytes].
     """
@@ -69,7 +73,8 @@ class BoxFFT:
         self._line_spectrum = fft.zeros((m1, m2, self.h), complex)
         self._buffers = {}          # a block of q3's spectra, by block size
         self.measure, self.applications = effort == "FFTW_MEASURE", 0
-        self._plan("FFTW_ESTIMATE" if self.measure else effort)
+        later = self.measure and n1 * n2 * n3 <= MEASURE_AT_ONCE_POINTS
+        self._plan("FFTW_ESTIMATE" if later else effort)
 
     def _plan(self, effort):
         """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are kept)."""
@@ -107,7 +112,7 @@ class BoxFFT:
         """
         (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
         self.applications += 1
-        if self.measure and self.applications == MEASURE_AFTER:
+        if self.measure and self.effort != "FFTW_MEASURE" and self.applications >= MEASURE_AFTER:
             self._plan("FFTW_MEASURE")
         ones = np.ones(6)
         weights_in = ones if weights_in is None else weights_in
