@@ -320,3 +320,26 @@ def test_a_sweep_varies_the_fraction_and_the_seed():
     assert reseeded != base and len(reseeded) == len(base) == 3
     assert len(fuller) == 6
     assert MAX_FRACTION == 0.6
+
+
+def test_one_body_in_a_dispersion_is_the_one_body_run():
+    """A dispersion of a single body (its fraction that body's volume in the region) is the same physics as the
+    body given alone: a coupled contact run over it gives the same pressure, eigenstrains and approach, bit for
+    bit, as the run over the same ellipsoid written out."""
+    import framework as fw
+    from framework import indenters, schedules
+    from framework.inclusions import Ellipsoid
+    glass = materials.Elastic(70e9, 0.22)
+    radius = 0.1e-3
+    region = ((-0.15e-3, 0.15e-3), (-0.15e-3, 0.15e-3), (0.1e-3, 0.4e-3))
+    volume = np.prod([hi - lo for lo, hi in region])
+    one = random_dispersion(4 / 3 * np.pi * radius**3 / volume, region, radius, glass, seed=5)
+    assert len(one) == 1
+    body = one[0]
+    alone = Ellipsoid(center=tuple(body.center), semi_axes=(radius,) * 3, material=glass)
+    grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.5e-3, layers=20)
+    runs = [fw.Simulation(grid=grid, material=materials.Elastic(3e9, 0.35), indenter=indenters.Sphere(radius=5e-3),
+                          schedule=schedules.Static(load=[2.0]), inclusions=bodies).run() for bodies in (one, [alone])]
+    for a, b in zip(*(run.records for run in runs)):
+        assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.eigenstrain, b.eigenstrain)
+        assert a.approach == b.approach
