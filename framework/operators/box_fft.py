@@ -91,8 +91,10 @@ class BoxFFT:
         if size not in self._plans:
             m1 = self.shape[0]
             n1, n2 = self.fft_shape[:2]
-            if size not in self._buffers:
-                self._buffers[size] = fft.zeros((6, n1, n2, size), complex)
+            if size not in self._buffers:       # a shorter last block in the first block's memory
+                first = self._buffers.get(self.block)
+                self._buffers[size] = (fft.zeros((6, n1, n2, size), complex) if first is None or size > self.block
+                                       else first.reshape(-1)[:6 * n1 * n2 * size].reshape(6, n1, n2, size))
             spectra = self._buffers[size]
             rows = spectra[:, :m1]
             effort = self.effort
