@@ -124,7 +124,8 @@ class BoxFFT:
             self._line_forward[c]()
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
-            spectra[...] = 0.0
+            spectra[:, m1:] = 0.0                   # the padding (the last inverse left values there)
+            spectra[:, :m1, m2:] = 0.0
             spectra[:, :m1, :m2] = self._lines[:, :, :, k0:k1]
             rows_forward()
             forward()
