@@ -62,7 +62,7 @@ class BoxFFT:
 
     def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES):
         self.shape, self.fft_shape = tuple(shape), tuple(fft_shape)
-        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
+        (m1, m2, _), (n1, n2, n3) = self.shape, self.fft_shape
         self.h = n3 // 2 + 1
         self.blocks = q3_blocks(self.fft_shape, block_bytes)
         self.block = self.blocks[0][1]
