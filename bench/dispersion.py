@@ -1,0 +1,170 @@
+"""A rigid sphere rolling over a viscoelastic half-space filled below the surface by a random dispersion of glass spheres.
+
+Issue 26's benchmark: how a coupled rolling step grows with the number of bodies. The accuracy of the dispersion path
+is checked in ``tests/test_dispersion.py`` (one body in a dispersion gives the one-body run bit for bit) and the
+coupled physics in ``tests/test_inclusions_rolling.py``; here only the cost.
+
+The case, in units of the glass spheres' radius r = 0.1 mm (E = 70 GPa, nu = 0.22), so that every resolution solves
+the same bodies: ``inclusions.random_dispersion`` places ``count`` spheres (``--seed``, at least 0.25 r apart) in a
+slab from 1 r to 7 r deep, square across, of the volume that holds exactly ``count`` spheres at the volume
+``--fraction`` (count * 4/3 pi r^3 / fraction); the slab's centre lies half the rolling distance ahead of the contact,
+so the body rolls over its middle. (A slab from 0.25 r deep, one cuboid below the surface at 4 cuboids per
+radius, stops the first rolling step: the contact-eigenstrain coupling does not converge in 100 iterations.) The matrix is polymer-like (E(0) = 3 GPa relaxing to 1 GPa over 2 Prony terms,
+0.02-0.2 s, nu = 0.35; bench/rolling_inclusion.py's ``matrix(2)``). The grid's cell is r / ``--cells-per-radius``
+(cubic cuboids: layers of one cell, 8 r deep), its surface the slab's box plus the rolling distance plus 8 r of
+margin (at least twice the contact's reach behind its axis plus 3 wake lengths, 0.49 mm), rounded up to a
+multiple of 32 cells. A rigid sphere R = 5 mm under W = 8 N (Hertz contact radius 0.21 mm =
+2.1 r at the glassy modulus, a / R = 0.04: small strains) rolls at 0.25 mm/s along x1 for ``--steps`` cells, one step
+per cell. Each case runs in a child process (its own peak memory). Prints the machine, then per count:
+
+- bodies, cuboids inside the bodies, the inclusion box (shape, cuboids), the surface grid;
+- construction time (the dispersion, the Simulation with its box operator);
+- per-step time: the median of the steps after the first two (the rest indentation and the first roll solve from
+  nothing), and every step's time;
+- eigenstrain-operator products per step (``problem.products`` differences) and coupling iterations per step;
+- peak RSS of the child process;
+- the same rolling step without the bodies (median of its steps after the first two).
+
+    .venv/bin/python bench/dispersion.py [--bodies 10 100 300] [--cells-per-radius 8] [--steps 40]
+                                         [--fraction 0.1] [--seed 0]
+
+The full issue-26 case (100 bodies at 8 cuboids per radius, 40 steps) is a box of about 2.5 million cuboids; see the
+README for what was measured and what was extrapolated.
+"""
+import argparse
+import multiprocessing
+import os
+import resource
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import framework as fw  # noqa: E402
+from framework import indenters, inclusions, materials, schedules  # noqa: E402
+from elastic_hertz import machine  # noqa: E402
+from rolling import libraries  # noqa: E402
+from rolling_inclusion import matrix  # noqa: E402
+
+RADIUS = 0.1e-3                 # glass sphere radius [m]
+GLASS = materials.Elastic(70e9, 0.22)
+TOP, THICKNESS = 1.0, 6.0       # the slab: from 1 r deep, 6 r thick (see the docstring)
+DEPTH = 8.0                     # grid depth [r]
+GAP = 0.25                      # least distance between two spheres [r]
+MARGIN = 8.0                    # surface grid beyond the box and the roll, in all [r]
+INDENTER, LOAD, SPEED = 5e-3, 8.0, 0.25e-3  # rigid sphere radius [m], load [N], speed [m/s]
+WAKE = 0.65                     # longest retardation time of matrix(2) [s], rounded up
+BEHIND = 2.5                    # the contact at rest reaches this far behind the axis [r], rounded up
+
+
+def region(count, fraction):
+    """The slab ((x1 lo, hi), (x2 lo, hi), (x3 lo, hi)) [m] of the volume that holds ``count`` spheres at ``fraction``,
+    centred on x2 = 0 and on x1 = 0 (shifted ahead by the caller)."""
+    volume = count * 4.0 / 3.0 * np.pi * RADIUS ** 3 / fraction
+    thickness = THICKNESS * RADIUS
+    side = np.sqrt(volume / thickness)
+    return side, ((-side / 2, side / 2), (-side / 2, side / 2), (TOP * RADIUS, TOP * RADIUS + thickness))
+
+
+def setup(count, cells_per_radius, steps, fraction, seed, with_bodies=True):
+    """The Simulation of one case (and its bodies, or None)."""
+    cell = RADIUS / cells_per_radius
+    side, slab = region(count, fraction)
+    ahead = steps * cell / 2                            # the slab's centre: half the roll ahead of the contact
+    slab = ((slab[0][0] + ahead, slab[0][1] + ahead), slab[1], slab[2])
+    needed = max(side + steps * cell + MARGIN * RADIUS, 2 * (BEHIND * RADIUS + 3 * SPEED * WAKE))   # and the wake
+    n = int(np.ceil(needed / cell / 32.0)) * 32
+    layers = int(round(DEPTH * cells_per_radius))
+    grid = fw.Grid(shape=(n, n), size=(n * cell, n * cell), depth=layers * cell, layers=layers)
+    bodies = None
+    if with_bodies:
+        bodies = inclusions.random_dispersion(fraction, slab, RADIUS, GLASS, gap=GAP * RADIUS, seed=seed)
+    sim = fw.Simulation(grid=grid, material=matrix(2), indenter=indenters.Sphere(radius=INDENTER),
+                        schedule=schedules.Rolling(load=LOAD, velocity=(SPEED, 0.0), distance=steps * cell),
+                        inclusions=bodies)
+    return sim, bodies, grid
+
+
+def run(count, cells_per_radius, steps, fraction, seed, with_bodies=True):
+    """One case, timed; returns plain figures (it runs in a child process)."""
+    begin = time.perf_counter()
+    sim, bodies, grid = setup(count, cells_per_radius, steps, fraction, seed, with_bodies)
+    build = time.perf_counter() - begin
+    problem = sim._inclusion_problem
+    times, products, couplings = [], [], []
+    done = 0
+    begin = time.perf_counter()
+    for record in sim.steps():
+        times.append(time.perf_counter() - begin)
+        if problem is not None:
+            products.append(problem.problem.products - done)
+            done = problem.problem.products
+            couplings.append(int(record.couplings))
+        last = record
+        begin = time.perf_counter()
+    out = dict(build=build, steps=times, products=products, couplings=couplings, grid=grid.shape,
+               layers=grid.layers, peak=float(last.pressure.max()),
+               rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
+    if problem is not None:
+        out.update(bodies=len(bodies), box=tuple(int(m) for m in problem.shape),
+                   cells=int(np.count_nonzero(problem.indicator)))
+    return out
+
+
+def child(*args, **kwargs):
+    """``run`` in a fresh forked process: its peak RSS is its own."""
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        return pool.apply(run, args, kwargs)
+
+
+def later(times):
+    """Median of the steps after the first two [s] (all of them when there are fewer than three)."""
+    times = np.asarray(times)
+    return float(np.median(times[2:] if len(times) > 2 else times))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--bodies", type=int, nargs="+", default=[10, 100, 300], help="counts of glass spheres")
+    parser.add_argument("--cells-per-radius", type=int, default=8, help="cuboids per sphere radius")
+    parser.add_argument("--steps", type=int, default=40, help="cells rolled (one step each)")
+    parser.add_argument("--fraction", type=float, default=0.1, help="volume fraction of the slab")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the dispersion")
+    parser.add_argument("--no-plain", action="store_true", help="skip the same run without bodies")
+    args = parser.parse_args()
+    print(machine())
+    print(libraries())
+    print(f"glass spheres r = {RADIUS * 1e3:.2f} mm, {args.cells_per_radius} cuboids per radius (cell "
+          f"{RADIUS / args.cells_per_radius * 1e6:.1f} um), fraction {args.fraction:.2f}, seed {args.seed}, "
+          f"{args.steps} steps; OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}\n", flush=True)
+    for count in args.bodies:
+        options = (count, args.cells_per_radius, args.steps, args.fraction, args.seed)
+        out = child(*options)
+        side = region(count, args.fraction)[0]
+        box = out["box"]
+        step = later(out["steps"])
+        products = np.asarray(out["products"])
+        couplings = np.asarray(out["couplings"])
+        tail = slice(2, None) if len(products) > 2 else slice(None)
+        print(f"{out['bodies']} bodies ({out['cells']} cuboids inside them) in a slab {side * 1e3:.2f} x "
+              f"{side * 1e3:.2f} x {THICKNESS * RADIUS * 1e3:.2f} mm; box {box[0]} x {box[1]} x {box[2]} = "
+              f"{np.prod(box) / 1e6:.3f} M cuboids; surface grid {out['grid'][0]} x {out['grid'][1]}, "
+              f"{out['layers']} layers")
+        print(f"  construction {out['build']:.2f} s; a step (median after the first two) {step:.2f} s; steps "
+              f"[s]: {' '.join(f'{t:.2f}' for t in out['steps'])}")
+        print(f"  products per step: {' '.join(map(str, products))} (mean after the first two "
+              f"{products[tail].mean():.1f}); couplings per step: {' '.join(map(str, couplings))}; "
+              f"{step / max(products[tail].mean(), 1):.2f} s a step per product")
+        print(f"  peak pressure at the end {out['peak'] / 1e6:.1f} MPa; peak RSS {out['rss']:.2f} GiB", flush=True)
+        if not args.no_plain:
+            plain = child(*options, with_bodies=False)
+            print(f"  the same step without the bodies {later(plain['steps']) * 1e3:.0f} ms (peak RSS "
+                  f"{plain['rss']:.2f} GiB)", flush=True)
+        print(flush=True)
+
+
+if __name__ == "__main__":
+    main()
