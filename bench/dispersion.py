@@ -31,8 +31,8 @@ step per cell. Each case runs in a child process (its own peak memory). Prints t
         [--steps 40] [--fraction 0.1] [--seed 0] [--coupling-tolerance 1e-6] [--static] [--no-plain]
 
 Measured (README): the default coupling tolerance 1e-8 stalls near it on the first rolling step of some cases
-(10 bodies at 8 cuboids per radius; a slab from 0.25 r deep at 4), ``--coupling-tolerance 1e-6`` runs them; 100
-bodies do not converge in the rest indentation at either tolerance (100 coupling iterations, the framework's cap):
+(10 bodies at 8 cuboids per radius; a slab from 0.25 r deep at 4), ``--coupling-tolerance 1e-6`` runs them; 60
+and 100 bodies do not converge in the rest indentation at either tolerance (100 coupling iterations, the cap):
 the equivalent-inclusion system alone needs 19, 21, 70 and 120 products for 10, 30, 60 and 100 bodies.
 """
 import argparse
@@ -62,7 +62,7 @@ DEPTH = 8.0                     # grid depth [r]
 GAP = 0.25                      # least distance between two spheres [r]
 MARGIN = 8.0                    # surface grid beyond the box and the roll, in all [r]
 INDENTER, LOAD, SPEED = 5e-3, 8.0, 0.25e-3  # rigid sphere radius [m], load [N], speed [m/s]
-WAKE = 0.65                     # longest retardation time of matrix(2) [s], rounded up
+WAKE = 0.65                     # longest retardation time [s]: matrix(2) 0.41 s, matrix(8) 0.6 s, rounded up
 BEHIND = 2.5                    # the contact at rest reaches this far behind the axis [r], rounded up
 
 
