@@ -298,3 +298,18 @@ def test_compiled_closed_forms_give_the_kernels_of_the_numpy_ones(monkeypatch):
             spectra[flag] = (operator._direct, operator._mirror)
     for compiled, plain in zip(spectra[True], spectra[False]):
         assert np.abs(compiled - plain).max() <= 1e-12 * np.abs(plain).max()
+
+
+def test_a_dispersion_is_preconditioned_cuboid_by_cuboid():
+    """The Fourier preconditioner fills the box with the bodies' material, matrix between them included: up to
+    FOURIER_BODIES bodies it is used, beyond them each cuboid is solved alone (60 glass spheres at 10 % in a
+    polymer did not converge in 500 iterations with it, 28 cuboid by cuboid: bench/dispersion.py's case)."""
+    grid = fw.Grid(shape=(40, 40), size=(40e-6, 40e-6), depth=12e-6, layers=12)
+    centres = [(x, y, 6e-6) for x in np.arange(-15e-6, 16e-6, 10e-6) for y in np.arange(-15e-6, 16e-6, 10e-6)]
+    spheres = [inclusions.Ellipsoid(center=c, semi_axes=(3e-6,) * 3, material=GLASS) for c in centres]
+    matrix = materials.Elastic(3e9, 0.35)
+    assert len(spheres) == 16 == equivalent.FOURIER_BODIES
+    few = InclusionProblem(grid, matrix, inclusions.InclusionSet(spheres)).problem
+    many = InclusionProblem(grid, matrix, inclusions.InclusionSet(spheres + [
+        inclusions.Ellipsoid(center=(0.0, 0.0, 6e-6), semi_axes=(3e-6,) * 3, material=GLASS)])).problem
+    assert few.preconditioner == "fourier" and many.preconditioner == "local"
