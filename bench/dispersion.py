@@ -31,9 +31,9 @@ step per cell. Each case runs in a child process (its own peak memory). Prints t
         [--steps 40] [--fraction 0.1] [--seed 0] [--coupling-tolerance 1e-6] [--static] [--no-plain]
 
 Measured (README, "Cost of a rolling step over a dispersion"): 10, 30, 60 and 100 bodies at 4 cuboids per radius
-run at the default tolerances, 1.3-17 s a step and 18-24 products. Before more than 16 bodies were preconditioned
-cuboid by cuboid, the Fourier preconditioner's system alone took 19, 21, 70 and 120 products for 10, 30, 60 and
-100 bodies and the rolling runs over 60 and 100 stopped at 100 couplings.
+run at the default tolerances, 1.3-13 s a step and 18-22 products. Before the Fourier preconditioner took a share
+of the contrast for more than 16 bodies (equivalent.DISPERSION_CONTRAST), its system alone took 19, 21, 70 and 120
+products for 10, 30, 60 and 100 bodies and the rolling runs over 60 and 100 stopped at 100 couplings.
 """
 import argparse
 import multiprocessing
