@@ -10,6 +10,7 @@ import pytest
 from framework import scenario
 
 from cli_helpers import GOOD
+from cli_helpers import cli as main_in_process
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = sorted(p for p in glob.glob(os.path.join(ROOT, "examples", "*.toml"))
@@ -95,17 +96,6 @@ def test_a_run_that_fails_midway_is_marked_incomplete(tmp_path):
 
 
 # --------------------------------------------------------------------------- the command line, in process
-
-def main_in_process(capsys, *args):
-    """Exit code, stdout and stderr of ``python -m framework ARGS`` run in this process."""
-    from framework.__main__ import main
-    try:
-        code = main(list(args))
-    except SystemExit as exc:  # argparse
-        code = exc.code
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
-
 
 def refused(capsys, tmp_path, text, message, *extra, command="run"):
     """``check`` and ``run`` both refuse the file with one line naming the problem; run writes nothing."""

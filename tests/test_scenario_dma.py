@@ -16,6 +16,8 @@ import pytest
 from framework import io, materials, scenario
 from framework.errors import DataWarning, ParameterError
 
+from cli_helpers import cli as main_in_process
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "examples", "data", "dma")
 CSV = "pyvisco_freq_raw.csv"
@@ -235,12 +237,6 @@ def test_tables_from_no_file_cannot_name_one(tmp_path):
         scenario.parse(data)
 
 
-def main_in_process(capsys, *args):
-    """Exit code, stdout and stderr of ``python -m framework ARGS`` run in this process."""
-    from framework.__main__ import main
-    code = main(list(args))
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def test_check_and_run_a_dma_scenario(capsys, tmp_path):
