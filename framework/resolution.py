@@ -117,6 +117,15 @@ def _largest(test, low, high):
     return low
 
 
+def _worst_wake(series, speed, cell, sizes, steps, how):
+    """``[message]`` for the step of ``steps`` whose wakes put the friction furthest off (contact sizes ``sizes``
+    per step), or ``[]`` when it is within :data:`FRICTION_ERROR`."""
+    totals = [friction_errors(series, speed, cell, sizes[k]).sum() for k in steps]
+    k = int(steps[int(np.argmax(totals))])
+    message = wake_message(series, speed, cell, sizes[k], where=f"at step {k}{how}")
+    return [message] if message else []
+
+
 def wake_message(series, speed, cell, size, *, where):
     """The warning text when wakes shorter than a cell put the friction :data:`FRICTION_ERROR` or more off, else None.
 
@@ -222,11 +231,7 @@ def result_messages(result):
     cell = grid.spacing[schedule.axis]
     moving = np.flatnonzero(result._moving() & touching)
     if len(series.terms) and moving.size:
-        totals = [friction_errors(series, speed, cell, sizes[k]).sum() for k in moving]
-        k = int(moving[int(np.argmax(totals))])
-        message = wake_message(series, speed, cell, sizes[k], where=f"at step {k}")
-        if message:
-            messages.append(message)
+        messages += _worst_wake(series, speed, cell, sizes, moving, "")
     return messages
 
 
@@ -324,9 +329,5 @@ def preview_messages(simulation):
         moving = np.flatnonzero(touching & (np.ones(len(sizes), bool) if schedule.steady
                                             else np.asarray(simulation.output_times) > schedule.motion_start))
         if moving.size:
-            totals = [friction_errors(series, speed, cell, sizes[j]).sum() for j in moving]
-            j = int(moving[int(np.argmax(totals))])
-            message = wake_message(series, speed, cell, sizes[j], where=f"at step {j} (with Hertz's contact size)")
-            if message:
-                messages.append(message)
+            messages += _worst_wake(series, speed, cell, sizes, moving, " (with Hertz's contact size)")
     return messages
