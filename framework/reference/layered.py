@@ -56,7 +56,7 @@ from .._validation import check_non_negative, check_positive, check_positive_int
 from ..errors import ConvergenceError, ParameterError
 
 __all__ = ["LayeredSphereContact", "compliance_from_moduli", "layered_compliance", "layered_point_kernel",
-           "layered_sphere_contact"]
+           "layered_sphere_contact", "stack_compliance"]
 
 #: Gauss-Legendre points per panel of the correction's Hankel integral; the panel is at most a third of the
 #: shortest period of J0(q r) on the table and at most h / 4 in q h (the integrand's own scale).
@@ -65,6 +65,9 @@ PANEL_POINTS = 8
 HANKEL_END = 40.0
 #: Radial table points per layer thickness (cubic spline: its error ~ (spacing / h)^4).
 TABLE_PER_THICKNESS = 40
+#: Largest q t of one sublayer in :func:`stack_compliance`'s recursion (its transfer matrix's entries stay
+#: below e^2, so that no cancellation loses digits).
+SUBLAYER = 1.0
 #: Largest surface grid side in cells (the padded FFT is twice as wide).
 MAX_CELLS = 1024
 
@@ -135,40 +138,122 @@ def layered_compliance(q, h, layer, substrate):
                                   substrate.young / (2.0 * (1.0 + substrate.poisson)), substrate.poisson)
 
 
-def layered_point_kernel(r, h, layer, substrate, cell=0.0):
+def _navier(material):
+    """d/d(q x3) of [U, W, T/q, S/q] for u1 = i U e^{i q x1}, u3 = W e^{i q x1}, sigma_13 = i T, sigma_33 = S
+    (stresses in Pa): the same matrix at every q in these scaled variables."""
+    shear = material.young / (2.0 * (1.0 + material.poisson))
+    lame = 2.0 * shear * material.poisson / (1.0 - 2.0 * material.poisson) if material.poisson < 0.5 else None
+    if lame is None:
+        raise ParameterError("stack_compliance needs poisson < 0.5 in every layer (a finite Lame constant), got 0.5")
+    longitudinal = lame + 2.0 * shear
+    return np.array([[0.0, -1.0, 1.0 / shear, 0.0],
+                     [lame / longitudinal, 0.0, 0.0, 1.0 / longitudinal],
+                     [longitudinal - lame ** 2 / longitudinal, 0.0, 0.0, -lame / longitudinal],
+                     [0.0, 0.0, 1.0, 0.0]])
+
+
+#: The Hermite interpolation at the eigenvalues +-1 (each double) of the scaled Navier matrix: exp(M s) =
+#: c0 + c1 M + c2 M^2 + c3 M^3 with c = _HERMITE^-1 [e^s, s e^s, e^-s, s e^-s] (values and slopes of e^{x s}).
+_HERMITE = np.array([[1.0, 1.0, 1.0, 1.0], [0.0, 1.0, 2.0, 3.0], [1.0, -1.0, 1.0, -1.0], [0.0, 1.0, -2.0, 3.0]])
+
+
+def stack_compliance(q, thicknesses, layers, substrate):
+    """Surface normal compliance of a stack of bonded elastic layers on an elastic half-space, per wavenumber.
+
+    The impedance recursion: the half-space's traction-displacement stiffness at its top (its decaying
+    solutions, see the module's docstring) is carried up through each layer in sublayers of q t <= SUBLAYER by
+    the layer's transfer matrix ``exp(M q t)`` (M the scaled Navier matrix, whose eigenvalues are +-1, each
+    double: the exponential is the cubic Hermite polynomial in M); the top's stiffness gives the displacement
+    under a unit pressure. Used for a matrix gap above a filled layer; with one layer it equals
+    :func:`layered_compliance` (checked to 1e-10).
+
+    Parameters
+    ----------
+    q : array_like
+        Wavenumbers |q| [1/m], > 0.
+    thicknesses : sequence of float
+        Layer thicknesses from the surface down [m], >= 0.
+    layers : sequence of framework.materials.Elastic
+        Their materials (Poisson ratio < 0.5).
+    substrate : framework.materials.Elastic
+        The half-space below.
+
+    Returns
+    -------
+    ndarray
+        The surface displacement per unit pressure [m/Pa].
+    """
+    q = np.atleast_1d(np.asarray(q, dtype=float))
+    if np.any(q <= 0) or not np.all(np.isfinite(q)):
+        raise ParameterError(f"q must be finite wavenumbers > 0 [1/m], got values from {q.min()} to {q.max()}")
+    if len(thicknesses) != len(layers):
+        raise ParameterError(f"thicknesses and layers must pair up, got {len(thicknesses)} thicknesses and "
+                             f"{len(layers)} layers")
+    thicknesses = [check_non_negative(t, name=f"thicknesses[{i}]", unit="m") for i, t in enumerate(thicknesses)]
+    shear = substrate.young / (2.0 * (1.0 + substrate.poisson))
+    kappa = 3.0 - 4.0 * substrate.poisson
+    # the half-space's top: U = a, W = -a - kappa B; T/q = G (-2 a + (1 - kappa) B), S/q = G (2 a + (1 + kappa) B)
+    to_constants = np.array([[1.0, 0.0], [-1.0 / kappa, -1.0 / kappa]])       # (a, B) from (U, W)
+    tractions = shear * np.array([[-2.0, 1.0 - kappa], [2.0, 1.0 + kappa]])
+    stiffness = np.broadcast_to(tractions @ to_constants, (q.size, 2, 2)).copy()
+    inverse = np.linalg.inv(_HERMITE)
+    for thickness, material in reversed(list(zip(thicknesses, layers))):
+        m = _navier(material)
+        powers = np.stack([np.eye(4), m, m @ m, m @ m @ m])
+        count = max(1, int(np.ceil(q.max() * thickness / SUBLAYER)))
+        s = q * thickness / count
+        values = np.stack([np.exp(s), s * np.exp(s), np.exp(-s), s * np.exp(-s)], axis=1)
+        propagate = np.einsum("nk,kij->nij", values @ inverse.T, powers)   # y(bottom) = P y(top) per q
+        p11, p12, p21, p22 = (propagate[:, :2, :2], propagate[:, :2, 2:], propagate[:, 2:, :2],
+                              propagate[:, 2:, 2:])
+        for _ in range(count):
+            # tau_b = K_b u_b with u_b = P11 u + P12 tau, tau_b = P21 u + P22 tau: tau = (K_b P12 - P22)^-1 (P21 - K_b P11) u
+            stiffness = np.linalg.solve(stiffness @ p12 - p22, p21 - stiffness @ p11)
+    unit = np.linalg.solve(stiffness, np.broadcast_to(np.array([0.0, -1.0]), (q.size, 2))[..., None])[..., 0]
+    return unit[:, 1] / q
+
+
+def layered_point_kernel(r, h, layer, substrate, cell=0.0, gap=0.0):
     """The layered correction to a unit load's surface displacement [m/N] at distances ``r`` [m].
 
-    ``g(r) = (1 / 2 pi) int_0^inf [C(q) - 2 / (E1* q)] D(q) J0(q r) q dq``: the layered half-space's
-    displacement minus that of a half-space of the layer's material, for the load spread uniformly over a disc
-    of the area ``cell**2`` (``D = 2 J1(q rho) / (q rho)``, ``pi rho^2 = cell^2``; ``cell = 0``: a point load).
-    Smooth on the scale ``h``; ``c0 / (2 pi r)`` far away, ``c0 = 2 (1/E2* - 1/E1*)``.
+    ``g(r) = (1 / 2 pi) int_0^inf [C(q) - 2 / (E_top* q)] D(q) J0(q r) q dq``: the layered half-space's
+    displacement minus that of a half-space of the top material (the layer's; the substrate's under a ``gap``
+    [m] of the substrate's material above the layer, :func:`stack_compliance`), for the load spread uniformly
+    over a disc of the area ``cell**2`` (``D = 2 J1(q rho) / (q rho)``, ``pi rho^2 = cell^2``; ``cell = 0``: a
+    point load). Smooth on the scale of the top thickness; ``c0 / (2 pi r)`` far away,
+    ``c0 = 2 (1/E2* - 1/E_top*)`` (0 under a gap: the same material above and below).
     """
     r = np.asarray(r, dtype=float)
     h = check_positive(h, name="h", unit="m")
-    e1, e2 = _contact_modulus(layer), _contact_modulus(substrate)
+    gap = check_non_negative(gap, name="gap", unit="m")
+    top = layer if gap == 0 else substrate
+    scale = h if gap == 0 else min(gap, h)
+    e1, e2 = _contact_modulus(top), _contact_modulus(substrate)
     c0 = 2.0 * (1.0 / e2 - 1.0 / e1)
     r_max = float(np.max(r)) if r.size else 0.0
-    # Gauss-Legendre panels in t = q h over [0, HANKEL_END]
-    width = min(0.25, np.pi / 3.0 / max(r_max / h, 1e-12))
+    # Gauss-Legendre panels in t = q scale over [0, HANKEL_END]
+    width = min(0.25, np.pi / 3.0 / max(r_max / scale, 1e-12))
     panels = int(np.ceil(HANKEL_END / width))
     nodes, weights = np.polynomial.legendre.leggauss(PANEL_POINTS)
     edges = np.linspace(0.0, HANKEL_END, panels + 1)
     half = np.diff(edges) / 2.0
     t = ((edges[:-1] + half)[:, None] + half[:, None] * nodes[None, :]).ravel()
     w = (half[:, None] * weights[None, :]).ravel()
-    q = t / h
+    q = t / scale
     rho = check_non_negative(cell, name="cell", unit="m") / np.sqrt(np.pi)
     disc = 2.0 * j1(q * rho) / (q * rho) if rho > 0 else 1.0
-    rest = (layered_compliance(q, h, layer, substrate) - 2.0 / (e1 * q)) * q * disc - c0 * np.exp(-t)
-    out = np.empty(r.shape)
+    if gap == 0:
+        compliance = layered_compliance(q, h, layer, substrate)
+    else:
+        compliance = stack_compliance(q, [gap, h], [substrate, layer], substrate)
+    rest = (compliance - 2.0 / (e1 * q)) * q * disc - c0 * np.exp(-q * h)
     flat = r.ravel()
     chunk = max(1, 4_000_000 // q.size)
     values = np.empty(flat.size)
     for start in range(0, flat.size, chunk):
         part = flat[start:start + chunk]
-        values[start:start + chunk] = j0(np.outer(part, q)) @ (rest * w) / h
-    out[...] = values.reshape(r.shape)
-    return (out + c0 / np.sqrt(r ** 2 + h ** 2)) / (2.0 * np.pi)
+        values[start:start + chunk] = j0(np.outer(part, q)) @ (rest * w) / scale
+    return (values.reshape(r.shape) + c0 / np.sqrt(r ** 2 + h ** 2)) / (2.0 * np.pi)
 
 
 def _love_rectangle(x, y, half, contact_modulus):
@@ -212,16 +297,18 @@ class LayeredSphereContact:
     iterations: int
 
 
-def influence_coefficients(cells, spacing, h, layer, substrate):
+def influence_coefficients(cells, spacing, h, layer, substrate, gap=0.0):
     """Displacement [m/Pa] at cell offsets (i, j) in -(cells-1)..cells-1 of a unit pressure on one cell,
-    wrapped for a zero-padded FFT of side 2 cells (offset -k at index 2 cells - k; index cells is zero)."""
+    wrapped for a zero-padded FFT of side 2 cells (offset -k at index 2 cells - k; index cells is zero);
+    ``gap`` [m]: a top layer of the substrate's material above the layer."""
     offsets = np.arange(-(cells - 1), cells) * spacing
     x, y = np.meshgrid(offsets, offsets, indexing="ij")
-    kernel = _love_rectangle(x, y, spacing / 2.0, _contact_modulus(layer))
+    kernel = _love_rectangle(x, y, spacing / 2.0, _contact_modulus(layer if gap == 0 else substrate))
     if h > 0 and (layer.young != substrate.young or layer.poisson != substrate.poisson):
         r = np.hypot(x, y)
-        table = np.linspace(0.0, r.max() * (1 + 1e-9), max(64, int(np.ceil(r.max() / h * TABLE_PER_THICKNESS))))
-        spline = CubicSpline(table, layered_point_kernel(table, h, layer, substrate, cell=spacing))
+        scale = h if gap == 0 else min(h, gap)
+        table = np.linspace(0.0, r.max() * (1 + 1e-9), max(64, int(np.ceil(r.max() / scale * TABLE_PER_THICKNESS))))
+        spline = CubicSpline(table, layered_point_kernel(table, h, layer, substrate, cell=spacing, gap=gap))
         kernel = kernel + spline(r) * spacing ** 2
     padded = np.zeros((2 * cells, 2 * cells))
     index = np.arange(-(cells - 1), cells) % (2 * cells)
@@ -229,7 +316,7 @@ def influence_coefficients(cells, spacing, h, layer, substrate):
     return padded
 
 
-def layered_sphere_contact(radius, load, h, layer, substrate, *, side, cells=128, tolerance=1e-10,
+def layered_sphere_contact(radius, load, h, layer, substrate, *, side, cells=128, gap=0.0, tolerance=1e-10,
                            max_iterations=2000):
     """Frictionless contact of a rigid sphere with an elastic layer bonded to an elastic half-space.
 
@@ -246,8 +333,11 @@ def layered_sphere_contact(radius, load, h, layer, substrate, *, side, cells=128
     side : float
         Side of the square surface grid [m], centred on the sphere's axis; it must hold the contact.
     cells : int
-        Cells along a side (the spacing is ``side / cells``); the layered correction needs cells well
-        below ``h``.
+        Cells along a side (the spacing is ``side / cells``); the layered correction wants cells below
+        ``h`` (and ``gap``).
+    gap : float
+        Thickness [m] of a top layer of the substrate's material above the layer (0: the layer at the surface):
+        a filled layer's bare top (:func:`stack_compliance`).
     tolerance : float
         Polonsky-Keer stopping rule: the relative change of the pressure, sum |dp| / sum p.
     max_iterations : int
@@ -275,7 +365,8 @@ def layered_sphere_contact(radius, load, h, layer, substrate, *, side, cells=128
     centres = (np.arange(cells) - (cells - 1) / 2.0) * spacing
     x, y = np.meshgrid(centres, centres, indexing="ij")
     profile = (x ** 2 + y ** 2) / (2.0 * radius)
-    spectrum = np.fft.rfft2(influence_coefficients(cells, spacing, h, layer, substrate))
+    gap = check_non_negative(gap, name="gap", unit="m")
+    spectrum = np.fft.rfft2(influence_coefficients(cells, spacing, h, layer, substrate, gap))
 
     def displacement(pressure):
         padded = np.zeros((2 * cells, 2 * cells))

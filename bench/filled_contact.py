@@ -1,0 +1,190 @@
+"""A rigid sphere pressed on a half-space filled with glass beads to a depth, against its homogenised references.
+
+Issue 26, "Then under contact": as the beads shrink, the approach and the contact radius must tend to those of the
+homogenised material. The filled depth is a layer: the matrix below it carries part of the approach, so the
+homogenised reference is a Mori-Tanaka layer of the filled depth bonded to the matrix half-space
+(``framework.reference.layered``, solved on its own grid, independently of the framework's solver).
+
+The case, in units of ``a``, the Hertz contact radius on the matrix (a = 0.5 mm: R = 10 mm, W = 57 N):
+
+- matrix PMMA-like elastic (E = 3 GPa, nu = 0.35), glass beads (E = 70 GPa, nu = 0.22) of radius ``r``, placed by
+  ``inclusions.random_dispersion`` at the volume ``--fraction`` (seeded, at least ``GAP`` r apart) in the box
+  ``|x1|, |x2| <= WIDTH a``, depths ``r <= x3 <= r + DEPTH a``: a top gap of one bead radius of bare matrix (the
+  beads' centres lie at least 2 r deep), filled to ``DEPTH a`` below it;
+- the grid: cubic cuboids of ``a / --cells-per-radius`` (the same cell for every bead size, so that the contact's
+  discretisation is the same and only the beads change: 3 cuboids per bead radius at r = a/5 with the default 15),
+  the surface ``2 (WIDTH + MARGIN) a`` wide, the layers down to the filled region's floor;
+- the references: (i) Hertz on the matrix, (ii) Hertz on the Mori-Tanaka material (the whole half-space
+  homogenised), (iii) the layered contact: a Mori-Tanaka layer of thickness ``DEPTH a`` at the surface, bonded to
+  the matrix half-space, which carries the approach below the filled depth (``layered_sphere_contact``, 128 cells
+  over 3 a: within 2e-5 of converged in the approach, tests/test_layered.py): the limit as the beads, and with
+  them the top gap, shrink; (iv) "gapped": the same layer under a bare matrix gap of one bead radius (the filled
+  box's top; ``stack_compliance``), the homogenised picture of the filled box at the bead size run;
+- the framework's discretisation: the same grid without beads against Hertz on the matrix (approach -2.3e-4,
+  contact radius +6.4e-3 at a/15); each filled result is divided by that grid's ratio before the comparison.
+
+Prints per bead radius and seed: the bodies, the reached fraction, the time, the approach and the contact radius,
+their differences from (i), (ii), (iii); then per radius the mean and the spread over the seeds.
+
+    OMP_NUM_THREADS=2 .venv/bin/python bench/filled_contact.py [--radii 3 4 5] [--seeds 0 1 2]
+        [--fraction 0.2] [--cells-per-radius 15] [--width 2.0] [--depth 2.0]
+
+Beads of a/2 (12 of them at 20 %) stop: with at most 16 bodies the equivalent-inclusion preconditioner takes the
+glass's whole contrast and the coupling does not converge in 100 iterations (residual 5e-3), so the study starts at
+a/3.
+"""
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import framework as fw  # noqa: E402
+from framework import inclusions, indenters, loads, materials, schedules  # noqa: E402
+from framework.reference import HertzSphere, mori_tanaka  # noqa: E402
+from framework.reference.layered import layered_sphere_contact  # noqa: E402
+
+MATRIX = materials.Elastic(3e9, 0.35)          # PMMA-like, elastic
+GLASS = materials.Elastic(70e9, 0.22)
+RADIUS = 10e-3                                 # rigid sphere [m]
+CONTACT = 0.5e-3                               # Hertz contact radius on the matrix, a [m]
+LOAD = 4 * MATRIX.young / (1 - MATRIX.poisson ** 2) * CONTACT ** 3 / (3 * RADIUS)   # 57.0 N
+WIDTH = 2.0                                    # the filled box's half-width [a]
+DEPTH = 2.0                                    # filled depth below the top gap [a]
+GAP = 0.1                                      # least distance between two beads [bead radius]
+MARGIN = 0.25                                  # bare surface beyond the box on each side [a]
+REFERENCE_CELLS = 128                          # the layered reference's grid over 3 a
+
+
+def contact_modulus(material):
+    """E / (1 - nu^2) [Pa]."""
+    return material.young / (1 - material.poisson ** 2)
+
+
+def references(fraction, depth=DEPTH):
+    """The three homogenised references: Hertz on the matrix, Hertz on Mori-Tanaka, the layered contact
+    (Mori-Tanaka layer ``depth`` a thick on the matrix); each (approach [m], contact radius [m])."""
+    effective = mori_tanaka(MATRIX, GLASS, fraction)
+    matrix = HertzSphere(radius=RADIUS, load=LOAD, contact_modulus=contact_modulus(MATRIX))
+    homogenised = HertzSphere(radius=RADIUS, load=LOAD, contact_modulus=contact_modulus(effective))
+    layered = layered_sphere_contact(RADIUS, LOAD, depth * CONTACT, effective, MATRIX, side=3 * CONTACT,
+                                     cells=REFERENCE_CELLS)
+    return dict(matrix=(matrix.approach, matrix.contact_radius),
+                homogenised=(homogenised.approach, homogenised.contact_radius),
+                layered=(layered.approach, layered.contact_radius), effective=effective)
+
+
+def gapped(bead, fraction, depth=DEPTH):
+    """The layered reference with the filled region's bare top: a matrix gap of one bead radius above the
+    Mori-Tanaka layer ``depth`` a thick, on the matrix: (approach [m], contact radius [m])."""
+    out = layered_sphere_contact(RADIUS, LOAD, depth * CONTACT, mori_tanaka(MATRIX, GLASS, fraction), MATRIX,
+                                 side=3 * CONTACT, cells=REFERENCE_CELLS, gap=bead)
+    return out.approach, out.contact_radius
+
+
+def grid_for(bead, cells_per_radius, width=WIDTH, depth=DEPTH):
+    """The grid [m] for beads of radius ``bead`` [m]: cubic cuboids of a / cells_per_radius, the surface over the
+    box and MARGIN, the layers down to the filled region's floor (top gap + depth)."""
+    cell = CONTACT / cells_per_radius
+    n = int(np.ceil(2 * (width + MARGIN) * CONTACT / cell / 8.0)) * 8
+    layers = int(np.ceil((bead + depth * CONTACT) / cell))
+    return fw.Grid(shape=(n, n), size=(n * cell, n * cell), depth=layers * cell, layers=layers)
+
+
+def region_for(bead, width=WIDTH, depth=DEPTH):
+    """The filled box ((x1 lo, hi), (x2 lo, hi), (x3 lo, hi)) [m]: a top gap of one bead radius."""
+    half = width * CONTACT
+    return ((-half, half), (-half, half), (bead, bead + depth * CONTACT))
+
+
+def press(grid, bodies):
+    """The framework's static contact: approach [m], contact radius [m], peak pressure [Pa], and the count of
+    cuboids inside the bodies (their staircase)."""
+    simulation = fw.Simulation(grid=grid, material=MATRIX, indenter=indenters.Sphere(radius=RADIUS),
+                               schedule=schedules.Static(load=loads.Step(LOAD), times=[1.0]), inclusions=bodies)
+    problem = simulation._inclusion_problem
+    cuboids = 0 if problem is None else int(np.count_nonzero(problem.indicator))
+    result = simulation.run()
+    return float(result.approach[-1]), float(result.contact_radius[-1]), float(result.max_pressure[-1]), cuboids
+
+
+def filled(bead, seed, fraction, cells_per_radius, width=WIDTH, depth=DEPTH):
+    """One filled case: a dict of the bodies, the reached fraction, the framework's results and the seconds."""
+    grid = grid_for(bead, cells_per_radius, width, depth)
+    region = region_for(bead, width, depth)
+    bodies = inclusions.random_dispersion(fraction, region, bead, GLASS, gap=GAP * bead, seed=seed)
+    volume = np.prod([hi - lo for lo, hi in region])
+    reached = len(bodies) * 4 / 3 * np.pi * bead ** 3 / volume
+    begin = time.perf_counter()
+    approach, contact_radius, peak, cuboids = press(grid, bodies)
+    staircase = cuboids * (CONTACT / cells_per_radius) ** 3 / volume
+    return dict(bead=bead, seed=seed, bodies=len(bodies), fraction=reached, staircase=staircase, approach=approach,
+                contact_radius=contact_radius, peak=peak, seconds=time.perf_counter() - begin, grid=grid)
+
+
+def plain(cells_per_radius, bead, width=WIDTH, depth=DEPTH):
+    """The same grid without beads: (approach [m], contact radius [m]) for the grid's own error."""
+    return press(grid_for(bead, cells_per_radius, width, depth), None)[:2]
+
+
+def compare(row, base, refs):
+    """Differences of one filled row: relative to each reference, raw and divided by the plain grid's ratio."""
+    out = {}
+    for name in ("matrix", "homogenised", "layered", "gapped"):
+        approach, radius = refs[name]
+        grid_approach = base[0] / refs["matrix"][0]        # the framework grid's own approach error, as a factor
+        grid_radius = base[1] / refs["matrix"][1]
+        out[name] = (row["approach"] / grid_approach / approach - 1, row["contact_radius"] / grid_radius / radius - 1)
+    return out
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--radii", type=float, nargs="+", default=[3, 4, 5], help="bead radius as a / these")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    parser.add_argument("--fraction", type=float, default=0.2)
+    parser.add_argument("--cells-per-radius", type=int, default=15, help="cuboids per contact radius a")
+    parser.add_argument("--width", type=float, default=WIDTH, help="the filled box's half-width [a]")
+    parser.add_argument("--depth", type=float, default=DEPTH, help="the filled depth [a]")
+    args = parser.parse_args()
+    refs = references(args.fraction, args.depth)
+    effective = refs["effective"]
+    print(f"matrix E {MATRIX.young / 1e9:.2f} GPa nu {MATRIX.poisson}; glass E {GLASS.young / 1e9:.0f} GPa; fraction "
+          f"{args.fraction}; Mori-Tanaka E {effective.young / 1e9:.3f} GPa nu {effective.poisson:.4f}; R {RADIUS * 1e3} "
+          f"mm, W {LOAD:.2f} N, a {CONTACT * 1e3} mm; box +-{args.width} a, filled {args.depth} a below a top gap of "
+          f"one bead radius; cell a/{args.cells_per_radius}")
+    for name in ("matrix", "homogenised", "layered"):
+        approach, radius = refs[name]
+        print(f"  {name:12s} approach {approach * 1e6:.4f} um ({approach / refs['matrix'][0] - 1:+.4f} of the "
+              f"matrix's), contact radius {radius * 1e3:.4f} mm ({radius / refs['matrix'][1] - 1:+.4f})")
+    for divisor in args.radii:
+        bead = CONTACT / divisor
+        base = plain(args.cells_per_radius, bead, args.width, args.depth)
+        refs["gapped"] = gapped(bead, args.fraction, args.depth)
+        print(f"\nbead r = a/{divisor:g} ({args.cells_per_radius / divisor:.2f} cuboids per radius): the plain grid "
+              f"{grid_for(bead, args.cells_per_radius, args.width, args.depth).shape} x "
+              f"{grid_for(bead, args.cells_per_radius, args.width, args.depth).layers} layers: approach "
+              f"{base[0] / refs['matrix'][0] - 1:+.5f}, contact radius {base[1] / refs['matrix'][1] - 1:+.5f} "
+              f"from Hertz; the layered reference under a matrix gap of r: approach "
+              f"{refs['gapped'][0] / refs['matrix'][0] - 1:+.4f}, contact radius "
+              f"{refs['gapped'][1] / refs['matrix'][1] - 1:+.4f} of the matrix's", flush=True)
+        rows = []
+        for seed in args.seeds:
+            row = filled(bead, seed, args.fraction, args.cells_per_radius, args.width, args.depth)
+            diff = compare(row, base, refs)
+            rows.append(diff)
+            print(f"  seed {seed}: {row['bodies']} beads (fraction {row['fraction']:.4f}, of the staircase "
+                  f"{row['staircase']:.4f}), {row['seconds']:.0f} s; "
+                  f"approach {row['approach'] * 1e6:.4f} um, contact radius {row['contact_radius'] * 1e3:.4f} mm; "
+                  + "; ".join(f"vs {name} {d[0]:+.4f} / {d[1]:+.4f}" for name, d in diff.items()), flush=True)
+        for name in ("matrix", "homogenised", "layered", "gapped"):
+            values = np.array([d[name] for d in rows])
+            print(f"  mean vs {name:12s} approach {values[:, 0].mean():+.4f} (spread {np.ptp(values[:, 0]):.4f}), "
+                  f"contact radius {values[:, 1].mean():+.4f} (spread {np.ptp(values[:, 1]):.4f})", flush=True)
+
+
+if __name__ == "__main__":
+    main()
