@@ -141,6 +141,57 @@ def compare(row, base, refs):
     return out
 
 
+# --------------------------------------------------------------------------- rolling over a viscoelastic matrix
+
+#: The viscoelastic matrix of the rolling case: E(0) = 3 GPa relaxing to 1 GPa over 0.02 and 0.2 s, nu = 0.35
+#: (bench/rolling_inclusion.py's ``matrix(2)``).
+VISCOUS = materials.Viscoelastic.from_prony(e_inf=1e9, terms=[(1e9, 0.02), (1e9, 0.2)], poisson=0.35)
+#: Rolling load [N]: the relaxed Hertz contact radius is a = 0.5 mm.
+ROLL_LOAD = 4 * VISCOUS.relaxation_terms[0] / (1 - 0.35 ** 2) * CONTACT ** 3 / (3 * RADIUS)
+#: Rolling speed [m/s]: 1 mm/s, V lambda = 0.82 a for the slowest retardation time (0.41 s): 5 a of rolling reach
+#: the steady state to exp(-6).
+SPEED = CONTACT / 0.5
+
+
+def rolling_references(fraction, bead, depth=DEPTH, cells=32):
+    """Steady friction coefficients: the matrix half-space, the Mori-Tanaka half-space, the Mori-Tanaka layer
+    ``depth`` a thick on the matrix (bare, and under a matrix gap ``bead``) [-]."""
+    from framework.reference import steady_sphere
+    from framework.reference.layered import layered_steady_sphere
+    effective = mori_tanaka(VISCOUS, GLASS, fraction)
+    half = 1.5 * CONTACT
+    out = dict(matrix=steady_sphere(RADIUS, ROLL_LOAD, SPEED, VISCOUS, half, cells).friction_coefficient,
+               homogenised=steady_sphere(RADIUS, ROLL_LOAD, SPEED, effective, half, cells).friction_coefficient,
+               layered=layered_steady_sphere(RADIUS, ROLL_LOAD, SPEED, depth * CONTACT, effective, VISCOUS,
+                                             half_size=half, cells=cells).friction_coefficient)
+    return out
+
+
+def roll(bead, seed, fraction, cells_per_radius, distance, with_beads=True, width=WIDTH, depth=DEPTH):
+    """The framework's transient roll over beads filling ``|x2| <= width a``, depths ``bead`` to ``bead + depth a``,
+    along the material from -width a to distance + width a (the roll's distance [a]); returns the friction
+    coefficient per step, the bodies and the seconds."""
+    cell = CONTACT / cells_per_radius
+    length = (distance + 2 * width) * CONTACT
+    n1 = int(np.ceil((2 * length + 2 * MARGIN * CONTACT) / cell / 8.0)) * 8
+    n2 = int(np.ceil(2 * (width + MARGIN) * CONTACT / cell / 8.0)) * 8
+    layers = int(np.ceil((bead + depth * CONTACT) / cell))
+    grid = fw.Grid(shape=(n1, n2), size=(n1 * cell, n2 * cell), depth=layers * cell, layers=layers)
+    bodies = None
+    if with_beads:
+        region = ((-width * CONTACT, (distance + width) * CONTACT), (-width * CONTACT, width * CONTACT),
+                  (bead, bead + depth * CONTACT))
+        bodies = inclusions.random_dispersion(fraction, region, bead, GLASS, gap=GAP * bead, seed=seed)
+    simulation = fw.Simulation(grid=grid, material=VISCOUS, indenter=indenters.Sphere(radius=RADIUS),
+                               schedule=schedules.Rolling(load=ROLL_LOAD, velocity=(SPEED, 0.0),
+                                                          distance=distance * CONTACT),
+                               inclusions=bodies)
+    begin = time.perf_counter()
+    result = simulation.run()
+    return dict(friction=np.asarray(result.friction_coefficient), bodies=0 if bodies is None else len(bodies),
+                seconds=time.perf_counter() - begin, grid=grid)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--radii", type=float, nargs="+", default=[3, 4, 5], help="bead radius as a / these")
