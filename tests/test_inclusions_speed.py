@@ -158,6 +158,37 @@ def test_fourier_preconditioner_halves_the_products():
         assert np.abs(quarter(field) - expected).max() <= 1e-12 * np.abs(expected).max()
 
 
+@pytest.mark.parametrize("recycling", [False, True])
+def test_a_large_boxs_gmres_keeps_only_its_basis(monkeypatch, recycling):
+    """A box too large to keep its directions' strains (IMAGES_BYTES) and, without recycling, its directions:
+    restarted every 4 iterations, the residual carried by the Arnoldi relation and the strain of the solution
+    computed by one product at the end. The same eigenstrain as the solve that keeps everything (to 1e-9 of its
+    scale, both at 1e-11), the true residual below the tolerance (recomputed here from the operator), one product
+    more than the iterations."""
+    applied = np.array([1e-3, 0, 0, 0, 2e-4, 0])
+    reference = stiff_sphere_problem()
+    reference.recycled.kept = 0
+    expected = reference.solve(applied, tolerance=1e-11)
+    monkeypatch.setattr(equivalent, "IMAGES_BYTES", 0)
+    monkeypatch.setattr(equivalent, "GMRES_BYTES", 1)          # the shortest restart (4)
+    problem = stiff_sphere_problem()
+    if not recycling:
+        problem.recycled.kept = 0
+    solution = problem.solve(applied, tolerance=1e-11)
+    assert solution.success and problem.products == solution.iterations + 1
+    assert solution.iterations > 4                              # restarted
+    scale = np.abs(expected.eigenstrain).max()
+    assert np.abs(solution.eigenstrain - expected.eigenstrain).max() <= 1e-9 * scale
+    cells = problem.cells
+    strain = problem.operator.strain(solution.eigenstrain)
+    assert np.abs(solution.strain - (applied + strain)).max() <= 1e-12 * np.abs(strain).max()
+    # (C_I - C_M) D[e*] + C_M e* = (C_M - C_I) e0, i.e. (C_I - C_M) (e0 + D[e*]) + C_M e* = 0
+    mismatch = (problem.per_material(problem.contrast, (applied + strain)[cells] * equivalent.MANDEL)
+                + (solution.eigenstrain[cells] * equivalent.MANDEL) @ problem.matrix.T)
+    right = problem.per_material(problem.contrast, np.broadcast_to(applied, strain.shape)[cells] * equivalent.MANDEL)
+    assert np.linalg.norm(mismatch) <= 1e-10 * np.linalg.norm(right)
+
+
 def test_recycled_directions_shorten_a_sequence_of_similar_solves():
     """Right-hand sides that change a little from solve to solve (a load moving over the body): the directions
     kept from the earlier solves cut the later ones' products (23, then 16, 14, 11 for the last three)."""

@@ -176,11 +176,12 @@ class BoxSurface:
                 passes.surface_sum(total, kernels, factors, parities, self._columns_out, 6 * layer)
         return totals
 
-    def box_stress(self, spectrum):
+    def box_stress(self, spectrum, add_to=None):
         """Stress ``(m1, m2, m3, 6)`` at the box's cuboid centres of the surface pressure whose unnormalised
-        spectrum (as :meth:`spectrum` gives it) is ``spectrum`` [stress per unit pressure]."""
+        spectrum (as :meth:`spectrum` gives it) is ``spectrum`` [stress per unit pressure]; added to the box
+        field ``add_to`` (and returned) when given."""
         (m1, m2), (f1, f2) = self.footprint_shape, self.position
-        out = np.empty((m1, m2, self.layers, 6))
+        out = np.empty((m1, m2, self.layers, 6)) if add_to is None else add_to
         scale = 1.0 / (self.fft_shape[0] * self.fft_shape[1])
         passes = loops()
         for layer in range(self.layers):
@@ -188,7 +189,11 @@ class BoxSurface:
             self._back_columns()
             self._back_rows_in[...] = self._columns_out[:, f1:f1 + m1]
             self._back_rows()
-            np.multiply(np.moveaxis(self._back_rows_out[:, :, f2:f2 + m2], 0, -1), scale, out=out[:, :, layer, :])
+            values = np.moveaxis(self._back_rows_out[:, :, f2:f2 + m2], 0, -1)
+            if add_to is None:
+                np.multiply(values, scale, out=out[:, :, layer, :])
+            else:
+                out[:, :, layer, :] += scale * values
         return out
 
     def spectrum(self, field):

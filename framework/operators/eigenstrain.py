@@ -255,10 +255,10 @@ def stress_from_strain(strain, poisson, young=1.0):
     return stress
 
 
-def strain_from_stress(stress, poisson, young=1.0):
-    """Inverse of :func:`stress_from_strain`."""
+def strain_from_stress(stress, poisson, young=1.0, out=None):
+    """Inverse of :func:`stress_from_strain` (into ``out``, which may be ``stress``, when given)."""
     trace = stress[..., 0] + stress[..., 1] + stress[..., 2]
-    strain = (1 + poisson) / young * stress
+    strain = np.multiply(stress, (1 + poisson) / young, out=out)
     strain[..., :3] -= (poisson / young * trace)[..., None]
     return strain
 
@@ -342,7 +342,7 @@ ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 MEASURED_FFT_POINTS = 2 ** 25
 
 
-def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell):
+def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None):
     """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra of ``C : D``.
 
     Each ``(21, N1/2+1, N2/2+1, N3/2+1)`` (unit Young's modulus, Mandel basis) on the padded lattice
@@ -354,20 +354,26 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell):
     each offset: one derivative at a time is evaluated on the offsets ``>= 0`` of x1 and x2 (and x3 for
     the infinite-space term), transformed by :func:`~framework.operators.parity.half_spectrum` and added
     to the entries it enters (a quarter of the lattice, and no lattice array per entry).
+
+    ``blocks``, a list of ``(k0, k1)`` ranges of q3: the kernels are returned as ``{k0: (direct, mirror)}``, each
+    block its own contiguous array, built so (not cut from whole arrays: that held the kernels twice, the peak
+    of a 128^3 box's build).
     """
     n1, n2, n3 = fft_shape
     # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
     # field, a reversal of the other two wavenumbers, a conjugation and this phase in q3.
     flip = np.exp(-2j * np.pi * np.arange(n3 // 2 + 1) * (depth - 1) / n3)
     coefficients = _stiffness_coefficients(poisson)
-    size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1, n3 // 2 + 1)
-    direct, mirror = np.zeros(size), np.zeros(size, dtype=complex)
-    for faces3, target in ((faces[2], direct), (mirror_faces, mirror)):
+    whole = blocks is None
+    blocks = [(0, n3 // 2 + 1)] if whole else blocks
+    size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1)
+    out = {k0: (np.zeros((*size, k1 - k0)), np.zeros((*size, k1 - k0), dtype=complex)) for k0, k1 in blocks}
+    for faces3, part in ((faces[2], 0), (mirror_faces, 1)):
         for key, values in potential_kernel_items(faces[0], faces[1], faces3, cell=cell):
             parities = key_parities(key)
             spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
             spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
-            if target is direct:
+            if part == 0:
                 spectrum = parity.half_spectrum(spectrum, parities[2], n3, axis=2) * parity.phase(parities).real
             else:
                 wrapped = np.zeros(spectrum.shape[:2] + (n3,))
@@ -377,8 +383,9 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell):
             for e, entry in enumerate(ENTRIES):
                 weight = coefficients[entry][key]
                 if weight != 0.0:
-                    target[e] += weight * spectrum
-    return direct, mirror
+                    for k0, k1 in blocks:
+                        out[k0][part][e] += weight * spectrum[..., k0:k1]
+    return out[0] if whole else out
 
 
 def surface_traction_kernels(faces1, faces2, top, layers, thickness, poisson):
@@ -455,10 +462,7 @@ class HalfSpaceEigenstrain:
         self.fft_shape = tuple(fft.even_size(2 * m) for m in shape)
         # the kernels held a block of q3 at a time, each block contiguous (the pass streams one block per block
         # of spectra: strided slices of whole arrays read four times the memory, twice the time on 256^3)
-        direct, mirror = self._box_spectra(self.spacing if average else None)
-        self._kernel_blocks = {k0: (np.ascontiguousarray(direct[..., k0:k1]),
-                                    np.ascontiguousarray(mirror[..., k0:k1])) for k0, k1 in q3_blocks(self.fft_shape)}
-        del direct, mirror
+        self._kernel_blocks = self._box_spectra(self.spacing if average else None, q3_blocks(self.fft_shape))
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         # an entry's parity in x1 and x2 is the product of its two components' parities
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
@@ -480,15 +484,15 @@ class HalfSpaceEigenstrain:
         self._grid_surface = None
         self._ffts = {}
 
-    def _box_spectra(self, cell):
+    def _box_spectra(self, cell, blocks):
         """Real factors of the 21 infinite-space spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` and the complex
         mirror spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit Young's modulus, Mandel basis)
-        between the box's cuboids (:func:`kernel_spectra`)."""
+        between the box's cuboids (:func:`kernel_spectra`), per block of q3 ``{k0: (direct, mirror)}``."""
         m3, n3 = self.shape[2], self.fft_shape[2]
         half_faces = [(np.arange(m + 1) - 0.5) * h for m, h in zip(self.shape, self.spacing)]
         mirror_faces = (2 * self.start[2] + np.arange(2 * m3) + 0.5) * self.spacing[2]
         place = (np.arange(2 * m3 - 1) - (m3 - 1)) % n3      # the mirror kernel's sums of depths, centred
-        return kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell)
+        return kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell, blocks)
 
     def _traction(self, faces1, faces2):
         """``2 s33`` at the surface ``(F1, F2, m3, 6)`` per unit eigenstrain component of a cuboid of each layer
@@ -638,8 +642,9 @@ class HalfSpaceEigenstrain:
         shared = displacement and surface is self._grid_map()
         spectra = surface.surface(eigenstrain, "traction", *(("betti",) if shared else ()), weights=CONTRACTION)
         # the traction is kept on the patch only: back to the surface, cut, and transformed again
-        stress += surface.box_stress(surface.spectrum(surface.field(spectra[0])))
-        strain = strain_from_stress(stress, self.poisson)
+        # in place: a 128^3 box's field is 100 MB, and a product held four of them
+        surface.box_stress(surface.spectrum(surface.field(spectra[0])), add_to=stress)
+        strain = strain_from_stress(stress, self.poisson, out=stress)
         if not displacement:
             return strain
         return strain, (self.spacing[2] * surface.field(spectra[1]) if shared
