@@ -28,6 +28,14 @@ their differences from (i), (ii), (iii); then per radius the mean and the spread
 
     OMP_NUM_THREADS=2 .venv/bin/python bench/filled_contact.py [--radii 3 4 5] [--seeds 0 1 2]
         [--fraction 0.2] [--cells-per-radius 15] [--width 2.0] [--depth 2.0]
+    OMP_NUM_THREADS=2 .venv/bin/python bench/filled_contact.py --roll --radii 3 --seeds 0 --cells-per-radius 10
+
+``--roll``: the same beads (box +-2 a across, from -2 a to 7 a along the roll) in a viscoelastic matrix (E(0) =
+3 GPa relaxing to 1 GPa over 0.02 and 0.2 s, nu = 0.35), a sphere (R = 10 mm, W = 19 N: relaxed a = 0.5 mm)
+rolling 5 a at 1 mm/s (V lambda_max = 0.82 a: the transient fades as exp(-6)); its last friction coefficient,
+divided by the plain roll's ratio to ``reference.steady_sphere``, against the steady references: the matrix's, the
+Mori-Tanaka half-space's, the Mori-Tanaka layer's on the matrix (``layered_steady_sphere``), bare and under the
+gap.
 
 Beads of a/2 (12 of them at 20 %) stop: with at most 16 bodies the equivalent-inclusion preconditioner takes the
 glass's whole contrast and the coupling does not converge in 100 iterations (residual 5e-3), so the study starts at
@@ -151,20 +159,26 @@ ROLL_LOAD = 4 * VISCOUS.relaxation_terms[0] / (1 - 0.35 ** 2) * CONTACT ** 3 / (
 #: Rolling speed [m/s]: 1 mm/s, V lambda = 0.82 a for the slowest retardation time (0.41 s): 5 a of rolling reach
 #: the steady state to exp(-6).
 SPEED = CONTACT / 0.5
+#: Rolling distance [a].
+ROLL_DISTANCE = 5.0
 
 
 def rolling_references(fraction, bead, depth=DEPTH, cells=32):
-    """Steady friction coefficients: the matrix half-space, the Mori-Tanaka half-space, the Mori-Tanaka layer
-    ``depth`` a thick on the matrix (bare, and under a matrix gap ``bead``) [-]."""
+    """Steady friction coefficients [-]: the matrix half-space and the Mori-Tanaka half-space
+    (``reference.steady_sphere``), the Mori-Tanaka layer ``depth`` a thick on the matrix, bare and under a matrix
+    gap ``bead`` [m] (``layered_steady_sphere`` on a periodic grid 24 a wide: the material's memory of its last
+    pass, exp(-24 a / 0.82 a), and the images, (1/24)^3, are below 1e-4)."""
     from framework.reference import steady_sphere
     from framework.reference.layered import layered_steady_sphere
     effective = mori_tanaka(VISCOUS, GLASS, fraction)
     half = 1.5 * CONTACT
-    out = dict(matrix=steady_sphere(RADIUS, ROLL_LOAD, SPEED, VISCOUS, half, cells).friction_coefficient,
-               homogenised=steady_sphere(RADIUS, ROLL_LOAD, SPEED, effective, half, cells).friction_coefficient,
-               layered=layered_steady_sphere(RADIUS, ROLL_LOAD, SPEED, depth * CONTACT, effective, VISCOUS,
-                                             half_size=half, cells=cells).friction_coefficient)
-    return out
+
+    def layered(gap):
+        return layered_steady_sphere(RADIUS, ROLL_LOAD, SPEED, depth * CONTACT, effective, VISCOUS, half_size=half,
+                                     cells=cells, period=24 * CONTACT, gap=gap).friction_coefficient
+    return dict(matrix=steady_sphere(RADIUS, ROLL_LOAD, SPEED, VISCOUS, half, cells).friction_coefficient,
+                homogenised=steady_sphere(RADIUS, ROLL_LOAD, SPEED, effective, half, cells).friction_coefficient,
+                layered=layered(0.0), gapped=layered(bead))
 
 
 def roll(bead, seed, fraction, cells_per_radius, distance, with_beads=True, width=WIDTH, depth=DEPTH):
@@ -192,6 +206,29 @@ def roll(bead, seed, fraction, cells_per_radius, distance, with_beads=True, widt
                 seconds=time.perf_counter() - begin, grid=grid)
 
 
+def rolling_main(args):
+    """The rolling study: per bead radius and seed, the transient roll's last friction coefficient against the
+    steady references, and the same roll without beads against the matrix's steady reference."""
+    plain_run = roll(CONTACT / args.radii[0], 0, args.fraction, args.cells_per_radius, ROLL_DISTANCE,
+                     with_beads=False, width=args.width, depth=args.depth)
+    print(f"rolling: R {RADIUS * 1e3} mm, W {ROLL_LOAD:.2f} N, V {SPEED * 1e3:.2f} mm/s, {ROLL_DISTANCE} a of "
+          f"rolling, cell a/{args.cells_per_radius}; the plain roll {plain_run['grid'].shape}: last friction "
+          f"{plain_run['friction'][-1]:.6f} in {plain_run['seconds']:.0f} s", flush=True)
+    for divisor in args.radii:
+        bead = CONTACT / divisor
+        refs = rolling_references(args.fraction, bead, args.depth)
+        print(f"bead r = a/{divisor:g}: steady friction " + ", ".join(f"{k} {v:.6f}" for k, v in refs.items())
+              + f"; the plain roll / the matrix's steady {plain_run['friction'][-1] / refs['matrix'] - 1:+.4f}",
+              flush=True)
+        for seed in args.seeds:
+            out = roll(bead, seed, args.fraction, args.cells_per_radius, ROLL_DISTANCE, width=args.width,
+                       depth=args.depth)
+            last = out["friction"][-1] / (plain_run["friction"][-1] / refs["matrix"])
+            print(f"  seed {seed}: {out['bodies']} beads, {out['seconds']:.0f} s; friction {out['friction'][-1]:.6f} "
+                  f"(the last 5 steps {' '.join(f'{v:.6f}' for v in out['friction'][-5:])}); divided by the plain "
+                  f"roll's error: " + "; ".join(f"vs {k} {last / v - 1:+.4f}" for k, v in refs.items()), flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--radii", type=float, nargs="+", default=[3, 4, 5], help="bead radius as a / these")
@@ -200,7 +237,12 @@ def main():
     parser.add_argument("--cells-per-radius", type=int, default=15, help="cuboids per contact radius a")
     parser.add_argument("--width", type=float, default=WIDTH, help="the filled box's half-width [a]")
     parser.add_argument("--depth", type=float, default=DEPTH, help="the filled depth [a]")
+    parser.add_argument("--roll", action="store_true",
+                        help="the rolling case instead: a viscoelastic matrix, the steady friction coefficient")
     args = parser.parse_args()
+    if args.roll:
+        rolling_main(args)
+        return
     refs = references(args.fraction, args.depth)
     effective = refs["effective"]
     print(f"matrix E {MATRIX.young / 1e9:.2f} GPa nu {MATRIX.poisson}; glass E {GLASS.young / 1e9:.0f} GPa; fraction "

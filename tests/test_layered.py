@@ -22,6 +22,7 @@
 - Steady rolling on a viscoelastic stack (correspondence principle at w = -V q1, periodic spectral kernel, dense
   active set): layer = substrate against ``reference.steady_sphere`` (Love's cells with the hereditary filter by
   quadrature): friction coefficient within 0.6 % (measured +0.35 %), peak pressure 0.5 % (+0.08 %) at 24 cells;
+  under a gap of the substrate (complex moduli through the stack) the closed form at a vanishing gap (1e-6);
   elastic materials: no friction (1e-12) and the static layered contact's peak pressure (8e-5 apart).
 """
 import numpy as np
@@ -220,6 +221,23 @@ def test_steady_rolling_layer_equal_to_substrate():
     assert reference.friction_coefficient > 0.008
     assert layered.friction_coefficient == pytest.approx(reference.friction_coefficient, rel=6e-3)
     assert layered.max_pressure == pytest.approx(reference.max_pressure, rel=5e-3)
+
+
+def test_steady_rolling_under_a_gap():
+    """A stiffer viscoelastic layer (the polymer times 1.5) 2 a deep: a gap of 1e-9 a of the substrate above it
+    (the stack's recursion with complex moduli) gives the closed form's friction to 1e-6; a gap of a/3 moves the
+    friction from the layer's towards the substrate's, inside that range (16 cells over 3 a, period 12 a)."""
+    polymer = Viscoelastic.from_prony(e_inf=1e9, terms=[(1e9, 0.02), (1e9, 0.2)], poisson=0.35)
+    stiffer = Viscoelastic.from_prony(e_inf=1.5e9, terms=[(1.5e9, 0.02), (1.5e9, 0.2)], poisson=0.33)
+    a, load, speed = 0.5e-3, 19.0, 1e-3
+
+    def friction(layer, gap, h=2 * a):
+        return layered_steady_sphere(RADIUS, load, speed, h, layer, polymer, half_size=1.5 * a, cells=16,
+                                     period=12 * a, gap=gap).friction_coefficient
+    bare = friction(stiffer, 0.0)
+    assert friction(stiffer, 1e-9 * a) == pytest.approx(bare, rel=1e-6)
+    substrate = friction(polymer, 0.0)
+    assert substrate > friction(stiffer, a / 3) > bare
 
 
 def test_steady_rolling_elastic_is_the_static_contact():

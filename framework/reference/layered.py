@@ -45,6 +45,13 @@ closed form, ``int_0^inf c0 e^{-q h} J0(q r) dq = c0 / sqrt(r^2 + h^2)``; the re
 integrated by Gauss-Legendre panels on a radial table, interpolated by a cubic spline. The discrete convolution
 is the exact linear one (zero-padded FFT, Liu, Wang & Liu, Wear 243 (2000) 101); the contact problem is solved
 by Polonsky & Keer's (Wear 231 (1999) 206) conjugate gradient under a given load.
+
+Stacks and steady rolling
+-------------------------
+:func:`stack_compliance` stacks any layers (a bare matrix gap above a filled layer) by an impedance recursion of
+the same Navier solutions. :func:`layered_steady_sphere` rolls a rigid sphere steadily over a viscoelastic
+layer on a viscoelastic half-space: by the correspondence principle in the body's frame the compliance at
+``(q1, q2)`` is the elastic one with the complex moduli at the frequency ``-V q1`` the material sees.
 """
 from dataclasses import dataclass
 
@@ -138,18 +145,22 @@ def layered_compliance(q, h, layer, substrate):
                                   substrate.young / (2.0 * (1.0 + substrate.poisson)), substrate.poisson)
 
 
-def _navier(material):
+def _navier(shear, poisson):
     """d/d(q x3) of [U, W, T/q, S/q] for u1 = i U e^{i q x1}, u3 = W e^{i q x1}, sigma_13 = i T, sigma_33 = S
-    (stresses in Pa): the same matrix at every q in these scaled variables."""
-    shear = material.young / (2.0 * (1.0 + material.poisson))
-    lame = 2.0 * shear * material.poisson / (1.0 - 2.0 * material.poisson) if material.poisson < 0.5 else None
-    if lame is None:
-        raise ParameterError("stack_compliance needs poisson < 0.5 in every layer (a finite Lame constant), got 0.5")
+    (stresses in Pa), one 4 x 4 matrix per shear modulus [Pa] in ``shear`` (complex accepted): in these scaled
+    variables it does not depend on q."""
+    if poisson >= 0.5:
+        raise ParameterError(f"stack_compliance needs poisson < 0.5 in every layer (a finite Lame constant), "
+                             f"got {poisson!r}")
+    shear = np.asarray(shear)
+    lame = 2.0 * shear * poisson / (1.0 - 2.0 * poisson)
     longitudinal = lame + 2.0 * shear
-    return np.array([[0.0, -1.0, 1.0 / shear, 0.0],
-                     [lame / longitudinal, 0.0, 0.0, 1.0 / longitudinal],
-                     [longitudinal - lame ** 2 / longitudinal, 0.0, 0.0, -lame / longitudinal],
-                     [0.0, 0.0, 1.0, 0.0]])
+    out = np.zeros(shear.shape + (4, 4), dtype=np.result_type(shear, float))
+    out[..., 0, 1], out[..., 0, 2] = -1.0, 1.0 / shear
+    out[..., 1, 0], out[..., 1, 3] = lame / longitudinal, 1.0 / longitudinal
+    out[..., 2, 0], out[..., 2, 3] = longitudinal - lame ** 2 / longitudinal, -lame / longitudinal
+    out[..., 3, 2] = 1.0
+    return out
 
 
 #: The Hermite interpolation at the eigenvalues +-1 (each double) of the scaled Navier matrix: exp(M s) =
@@ -190,20 +201,26 @@ def stack_compliance(q, thicknesses, layers, substrate):
         raise ParameterError(f"thicknesses and layers must pair up, got {len(thicknesses)} thicknesses and "
                              f"{len(layers)} layers")
     thicknesses = [check_non_negative(t, name=f"thicknesses[{i}]", unit="m") for i, t in enumerate(thicknesses)]
-    shear = substrate.young / (2.0 * (1.0 + substrate.poisson))
-    kappa = 3.0 - 4.0 * substrate.poisson
+    shears = [np.full(q.shape, m.young / (2.0 * (1.0 + m.poisson))) for m in layers]
+    return _stack(q, thicknesses, shears, [m.poisson for m in layers],
+                  np.full(q.shape, substrate.young / (2.0 * (1.0 + substrate.poisson))), substrate.poisson)
+
+
+def _stack(q, thicknesses, shears, poissons, substrate_shear, substrate_poisson):
+    """:func:`stack_compliance` from shear moduli given per wavenumber (arrays like ``q``, complex accepted)."""
+    kappa = 3.0 - 4.0 * substrate_poisson
     # the half-space's top: U = a, W = -a - kappa B; T/q = G (-2 a + (1 - kappa) B), S/q = G (2 a + (1 + kappa) B)
     to_constants = np.array([[1.0, 0.0], [-1.0 / kappa, -1.0 / kappa]])       # (a, B) from (U, W)
-    tractions = shear * np.array([[-2.0, 1.0 - kappa], [2.0, 1.0 + kappa]])
-    stiffness = np.broadcast_to(tractions @ to_constants, (q.size, 2, 2)).copy()
+    tractions = np.array([[-2.0, 1.0 - kappa], [2.0, 1.0 + kappa]])
+    stiffness = np.asarray(substrate_shear)[:, None, None] * (tractions @ to_constants)[None]
     inverse = np.linalg.inv(_HERMITE)
-    for thickness, material in reversed(list(zip(thicknesses, layers))):
-        m = _navier(material)
-        powers = np.stack([np.eye(4), m, m @ m, m @ m @ m])
+    for thickness, shear, poisson in reversed(list(zip(thicknesses, shears, poissons))):
+        m = _navier(shear, poisson)
+        powers = np.stack([np.broadcast_to(np.eye(4), m.shape), m, m @ m, m @ m @ m], axis=1)
         count = max(1, int(np.ceil(q.max() * thickness / SUBLAYER)))
         s = q * thickness / count
         values = np.stack([np.exp(s), s * np.exp(s), np.exp(-s), s * np.exp(-s)], axis=1)
-        propagate = np.einsum("nk,kij->nij", values @ inverse.T, powers)   # y(bottom) = P y(top) per q
+        propagate = np.einsum("nk,nkij->nij", values @ inverse.T, powers)   # y(bottom) = P y(top) per q
         p11, p12, p21, p22 = (propagate[:, :2, :2], propagate[:, :2, 2:], propagate[:, 2:, :2],
                               propagate[:, 2:, 2:])
         for _ in range(count):
@@ -446,7 +463,7 @@ class LayeredSteadySphere:
     pressure: np.ndarray
 
 
-def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_size, cells, period=None):
+def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_size, cells, period=None, gap=0.0):
     """Steady rolling (frictionless sliding) of a rigid sphere over a viscoelastic layer bonded to a half-space.
 
     Correspondence principle in the body's frame: a surface wave ``e^{i q . x}`` is carried by the material at the
@@ -480,6 +497,8 @@ def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_s
         period: its memory of the last pass fades as ``exp(-period / (V tau))`` and the images' pull as
         ``(a / period)^3``. Against ``reference.steady_sphere`` (layer = substrate, V tau_max = 6.7 a, 32
         cells over 3 a): the friction coefficient -7.2 %, -0.33 %, +0.13 % off at 8, 32, 96 half-sizes.
+    gap : float
+        Thickness [m] of a top layer of the substrate's material above the layer (:func:`stack_compliance`).
 
     Returns
     -------
@@ -502,8 +521,14 @@ def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_s
     q = np.hypot(q1, q2)
     frequency = -float(velocity) * q1
     q_safe = np.where(q > 0, q, 1.0)
-    spectrum = compliance_from_moduli(q_safe, h, _shear_moduli(layer, frequency), layer.poisson,
-                                      _shear_moduli(substrate, frequency), substrate.poisson)
+    gap = check_non_negative(gap, name="gap", unit="m")
+    layer_shear, substrate_shear = _shear_moduli(layer, frequency), _shear_moduli(substrate, frequency)
+    if gap == 0:
+        spectrum = compliance_from_moduli(q_safe, h, layer_shear, layer.poisson, substrate_shear, substrate.poisson)
+    else:
+        spectrum = _stack(q_safe.ravel(), [gap, h], [substrate_shear.ravel(), layer_shear.ravel()],
+                          [substrate.poisson, layer.poisson], substrate_shear.ravel(),
+                          substrate.poisson).reshape(q.shape)
     spectrum = np.where(q > 0, spectrum, 0.0) * np.sinc(q1 * spacing / (2 * np.pi)) * np.sinc(q2 * spacing / (2 * np.pi))
     kernel = np.fft.ifft2(spectrum).real
     index = np.arange(cells)
