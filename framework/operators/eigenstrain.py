@@ -186,9 +186,14 @@ def potential_kernel_items(faces1, faces2, faces3, cell=None):
     forms = lattice_forms(int(np.prod(shape)))
     for key in KEYS:
         name, (i, j, k) = corner_case(key)
-        total = 0.0
-        for weight, t, r in rule:
-            total = total + weight * forms[name](t[i], t[j], t[k], r)
+        total = None
+        for weight, t, r in rule:       # in place: each point's values are a fresh array
+            value = forms[name](t[i], t[j], t[k], r)
+            value *= weight
+            if total is None:
+                total = value
+            else:
+                total += value
         # Per axis, int_a^b f(x - x') dx' = H(x - a) - H(x - b): a forward difference in t = x - c.
         yield key, np.diff(np.diff(np.diff(total, axis=0), axis=1), axis=2)
 
@@ -366,10 +371,15 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
     coefficients = _stiffness_coefficients(poisson)
     whole = blocks is None
     blocks = [(0, n3 // 2 + 1)] if whole else blocks
-    size = (len(ENTRIES), n1 // 2 + 1, n2 // 2 + 1)
-    out = {k0: (np.zeros((*size, k1 - k0)), np.zeros((*size, k1 - k0), dtype=complex)) for k0, k1 in blocks}
+    quarter = (n1 // 2 + 1, n2 // 2 + 1)
+    out = {k0: [None, None] for k0, _ in blocks}
     for faces3, part in ((faces[2], 0), (mirror_faces, 1)):
-        for key, values in potential_kernel_items(faces[0], faces[1], faces3, cell=cell):
+        # the keys' spectra per block, then the entries as one matrix product a block (87 scaled additions of
+        # whole spectra read the memory 3 times each: a fifth of a 128^3 box's build)
+        dtype = float if part == 0 else complex
+        keys = {k0: np.empty((len(KEYS), *quarter, k1 - k0), dtype=dtype) for k0, k1 in blocks}
+        weights = np.zeros((len(ENTRIES), len(KEYS)))
+        for index, (key, values) in enumerate(potential_kernel_items(faces[0], faces[1], faces3, cell=cell)):
             parities = key_parities(key)
             spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
             spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
@@ -380,11 +390,14 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
                 wrapped[:, :, place] = spectrum
                 spectrum = np.fft.rfft(wrapped, axis=2) * (parity.phase(parities[:2]) * flip)
             del values
-            for e, entry in enumerate(ENTRIES):
-                weight = coefficients[entry][key]
-                if weight != 0.0:
-                    for k0, k1 in blocks:
-                        out[k0][part][e] += weight * spectrum[..., k0:k1]
+            weights[:, index] = [coefficients[entry].get(key, 0.0) for entry in ENTRIES]
+            for k0, k1 in blocks:
+                keys[k0][index] = spectrum[..., k0:k1]
+        for k0, k1 in blocks:
+            block = keys.pop(k0)
+            out[k0][part] = (weights @ block.reshape(len(KEYS), -1)).reshape(len(ENTRIES), *quarter, k1 - k0)
+            del block
+    out = {k0: tuple(pair) for k0, pair in out.items()}
     return out[0] if whole else out
 
 

@@ -22,19 +22,18 @@ def half_spectrum(values, parity, size, axis):
     count = values.shape[axis]
     if count > half:
         raise ValueError(f"{count} offsets do not fit a period of {size}")
-    pad = [(0, 0)] * values.ndim
+    # (the transforms' n pads with zeros: no padded copies, a tenth of a 128^3 box's kernel build)
     if parity > 0:
-        pad[axis] = (0, half + 1 - count)
-        return scipy.fft.dct(np.pad(values, pad), type=1, axis=axis)
+        return scipy.fft.dct(values, type=1, n=half + 1, axis=axis)
     shape = list(values.shape)
     shape[axis] = half + 1
-    if half < 2:
-        return np.zeros(shape)
-    inner = np.take(values, np.arange(1, count), axis=axis)
-    pad[axis] = (0, half - 1 - inner.shape[axis])
-    out = scipy.fft.dst(np.pad(inner, pad), type=1, axis=axis)
-    pad[axis] = (1, 1)
-    return np.pad(out, pad)
+    out = np.zeros(shape)
+    if half < 2 or count < 2:
+        return out
+    inner = values[(slice(None),) * (axis % values.ndim) + (slice(1, count),)]
+    middle = (slice(None),) * (axis % values.ndim) + (slice(1, half),)
+    out[middle] = scipy.fft.dst(inner, type=1, n=half - 1, axis=axis)
+    return out
 
 
 def quadrant(index, size):
