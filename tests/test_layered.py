@@ -89,8 +89,8 @@ def test_compliance_limits():
         np.testing.assert_allclose(layered_compliance(q, 0.0, layer, substrate), 2 / (contact_modulus(substrate) * q),
                                    rtol=1e-12)
         for one in q:
-            assert layered_compliance(one, 60 / one, layer, substrate) == pytest.approx(2 / (contact_modulus(layer) * one),
-                                                                                       rel=1e-12)
+            thick = layered_compliance(one, 60 / one, layer, substrate)
+            assert thick == pytest.approx(2 / (contact_modulus(layer) * one), rel=1e-12)
         np.testing.assert_allclose(layered_compliance(q, 3e-4, layer, layer), 2 / (contact_modulus(layer) * q),
                                    rtol=1e-12)
     # in between it lies between the two, monotone in h for a stiffer layer
@@ -154,7 +154,8 @@ def test_influence_coefficients_against_hankel_integral(thickness):
     def integrand(q):
         x = q * a
         transform = 2 * np.pi * p0 * a ** 2 * (np.sin(x) - x * np.cos(x)) / x ** 3
-        return (layered_compliance(q, h, LAYER, MATRIX) - 2 / (contact_modulus(LAYER) * q)) * transform * q / (2 * np.pi)
+        correction = layered_compliance(q, h, LAYER, MATRIX) - 2 / (contact_modulus(LAYER) * q)
+        return correction * transform * q / (2 * np.pi)
     # panels of width 1/h: the oscillating integrand in one quad call loses 3 % at small h
     correction = sum(quad(integrand, k / h, (k + 1) / h)[0] for k in range(50))
     expected = np.pi * p0 * a / (2 * contact_modulus(LAYER)) + correction

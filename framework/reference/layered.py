@@ -62,8 +62,9 @@ from scipy.special import j0, j1
 from .._validation import check_non_negative, check_positive, check_positive_int
 from ..errors import ConvergenceError, ParameterError
 
-__all__ = ["LayeredSphereContact", "LayeredSteadySphere", "compliance_from_moduli", "layered_steady_sphere", "layered_compliance", "layered_point_kernel",
-           "layered_sphere_contact", "stack_compliance"]
+__all__ = ["LayeredSphereContact", "LayeredSteadySphere", "compliance_from_moduli", "layered_compliance",
+           "influence_coefficients", "layered_point_kernel", "layered_sphere_contact", "layered_steady_sphere",
+           "stack_compliance"]
 
 #: Gauss-Legendre points per panel of the correction's Hankel integral; the panel is at most a third of the
 #: shortest period of J0(q r) on the table and at most h / 4 in q h (the integrand's own scale).
@@ -224,7 +225,8 @@ def _stack(q, thicknesses, shears, poissons, substrate_shear, substrate_poisson)
         p11, p12, p21, p22 = (propagate[:, :2, :2], propagate[:, :2, 2:], propagate[:, 2:, :2],
                               propagate[:, 2:, 2:])
         for _ in range(count):
-            # tau_b = K_b u_b with u_b = P11 u + P12 tau, tau_b = P21 u + P22 tau: tau = (K_b P12 - P22)^-1 (P21 - K_b P11) u
+            # tau_b = K_b u_b, u_b = P11 u + P12 tau, tau_b = P21 u + P22 tau:
+            # tau = (K_b P12 - P22)^-1 (P21 - K_b P11) u
             stiffness = np.linalg.solve(stiffness @ p12 - p22, p21 - stiffness @ p11)
     unit = np.linalg.solve(stiffness, np.broadcast_to(np.array([0.0, -1.0]), (q.size, 2))[..., None])[..., 0]
     return unit[:, 1] / q
@@ -529,7 +531,8 @@ def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_s
         spectrum = _stack(q_safe.ravel(), [gap, h], [substrate_shear.ravel(), layer_shear.ravel()],
                           [substrate.poisson, layer.poisson], substrate_shear.ravel(),
                           substrate.poisson).reshape(q.shape)
-    spectrum = np.where(q > 0, spectrum, 0.0) * np.sinc(q1 * spacing / (2 * np.pi)) * np.sinc(q2 * spacing / (2 * np.pi))
+    cell = np.sinc(q1 * spacing / (2 * np.pi)) * np.sinc(q2 * spacing / (2 * np.pi))
+    spectrum = np.where(q > 0, spectrum, 0.0) * cell
     kernel = np.fft.ifft2(spectrum).real
     index = np.arange(cells)
     along = (index[:, None] - index[None, :]) % size
