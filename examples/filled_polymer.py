@@ -18,7 +18,7 @@ The case (cell h = 10 um, cubic cuboids):
   :func:`framework.inclusions.random_dispersion` (gap 0; every body wholly inside the slab): ``beads`` (spheres of
   radius 30 um), ``aligned fibres`` and ``random fibres`` (prolate spheroids 90 x 30 x 30 um, aspect 3, along x1 or
   isotropic). 3 cuboids per semi-axis across: the framework's floor (it warns below 4: up to 23 % on one body's
-  centre stress; the example silences that warning once it has said so);
+  centre stress; the example silences that warning, which would repeat for every body);
 * fractions 0, 10 and 20 % by default (``--fractions 0 0.05 0.1 0.15 0.2`` for the issue's five, about twice the
   time), seeds 1, 2, 3 each (10 %: 32 beads or 11 fibres, 20 %: 64 or 21).
 
@@ -46,6 +46,16 @@ the particles make alone, by shifting the pressure towards the stiff spots ahead
 
     python examples/filled_polymer.py [--out filled_polymer_output] [--fractions 0 0.1 0.2] [--seeds 1 2 3]
         [--steps 12] [--window 4] [--kinds ...] [--elastic] [--quick]
+
+Measured (default run; mean +- standard deviation over the 3 seeds, friction in 1e-3): at 0 % friction 2.678 and peak
+von Mises 9.42 MPa, filled and homogenised alike (difference 0). Beads 10 / 20 %: friction 2.73 +- 0.35 / 2.53 +-
+0.33 (homogenised 2.59 / 2.48); aligned fibres 2.92 +- 0.63 / 2.82 +- 0.54 and random fibres 3.16 +- 0.56 / 3.12
++- 0.53 (random-fibre homogenised 2.57 / 2.44). The spread is the particles' size: beads a third of the contact
+radius, fibres as long as the contact is wide. Over an elastic matrix (``--kinds beads --elastic``) the beads alone
+make +0.23 +- 0.20 / +0.17 +- 0.20 of friction, seed by seed much of the deviation from the homogenised value; the
+filled friction less that share is 2.50 +- 0.16 / 2.36 +- 0.14, 3.3 / 4.8 % below Mori-Tanaka. Peak von Mises:
+beads 50 +- 12 / 49 +- 1 MPa, aligned fibres 49 +- 7 / 44 +- 10, random fibres 89 +- 67 / 88 +- 57 (one seed's fibre
+tip under the contact, 183 and 167 MPa), against 10.9-13.0 MPa homogenised; in the matrix alone 21-27 MPa.
 
 ``--quick``: beads only, 0 and 10 %, seed 1, 8 steps (window 4), for the tests. Measured on the 2-core AMD EPYC
 (one thread, other work running): the default run 548 s (9.1 min; a filled run 16-54 s, the homogenised ones
