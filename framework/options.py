@@ -1,7 +1,7 @@
 """Run options of a :class:`~framework.Simulation`: solver tolerances and what a run checks and keeps."""
 from dataclasses import dataclass, field, replace
 
-from ._validation import check_bool, check_quantity, check_real
+from ._validation import check_bool, check_positive_int, check_quantity, check_real
 from .errors import ParameterError
 from .solver import SolverOptions
 
@@ -34,6 +34,9 @@ class Options:
     coupling_tolerance : float
         Relative change of the inhomogeneities' surface displacement at which a
         step's contact and eigenstrains count as converged together.
+    max_couplings : int or None
+        Coupling iterations (one eigenstrain-operator product each) a step over
+        inhomogeneities may take before it raises ConvergenceError; None: 100.
     inclusion_geometry : str
         How the cuboids hold an inhomogeneity: ``"staircase"`` (whole cuboids whose
         centre it contains) or ``"laminate"`` (also the cuboids its boundary cuts, each
@@ -56,6 +59,7 @@ class Options:
     history: str = "recursive"
     inclusion_margin: float = None
     coupling_tolerance: float = 1e-8
+    max_couplings: int = None
     time_tolerance: float = DEFAULT_TIME_TOLERANCE
     inclusion_geometry: str = "staircase"
 
@@ -72,6 +76,8 @@ class Options:
         if not 1e-14 <= tolerance < 1:
             raise ParameterError(f"coupling_tolerance must lie in [1e-14, 1) (a relative change), got {tolerance!r}")
         object.__setattr__(self, "coupling_tolerance", tolerance)
+        if self.max_couplings is not None:
+            object.__setattr__(self, "max_couplings", check_positive_int(self.max_couplings, name="max_couplings"))
         from .inclusions.subcell import GEOMETRIES
         if not isinstance(self.inclusion_geometry, str) or self.inclusion_geometry not in GEOMETRIES:
             raise ParameterError(f"inclusion_geometry must be one of {', '.join(map(repr, GEOMETRIES))}, got "
@@ -95,8 +101,8 @@ class Options:
         if not isinstance(value, dict):
             raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
         solver_keys = set(SolverOptions.__dataclass_fields__)
-        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance", "time_tolerance",
-                    "inclusion_geometry"}
+        run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance", "max_couplings",
+                    "time_tolerance", "inclusion_geometry"}
         unknown = set(value) - solver_keys - run_keys
         if unknown:
             raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "

@@ -241,7 +241,9 @@ class Simulation:
         if self._inclusion_problem is not None:
             from .inclusions.coupling import ContactCoupling
             coupling = ContactCoupling(self._inclusion_problem, tolerance=options.coupling_tolerance,
-                                       history=options.history)
+                                       history=options.history,
+                                       **({} if options.max_couplings is None else
+                                          {"max_couplings": options.max_couplings}))
             if state is not None and "inclusion_eigenstrain" in state:
                 coupling.restore(state)
         self._coupling = coupling

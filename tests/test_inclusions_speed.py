@@ -359,3 +359,17 @@ def test_a_dispersion_is_preconditioned_by_a_share_of_its_contrast():
     scale = np.abs(solutions["local", None]).max()
     for key in solutions:
         assert np.abs(solutions[key] - solutions["local", None]).max() <= 1e-8 * scale
+
+
+def test_max_couplings_is_an_option():
+    """``Options.max_couplings`` bounds a step's coupling iterations (None: 100): a step that needs more raises
+    ConvergenceError naming the option; it is checked as a positive integer before any step."""
+    schedule, matrix, bodies = PATHS["static elastic, one body"]
+    with pytest.raises(fw.errors.ConvergenceError, match="Options.max_couplings"):
+        fw.Simulation(grid=fw.Grid(shape=(48, 40), size=(1.2e-3, 1.0e-3), depth=0.5e-3, layers=20), material=matrix,
+                      indenter=indenters.Sphere(radius=5e-3), schedule=schedule, inclusions=bodies,
+                      options={"max_couplings": 2}).run()
+    for bad in (0, -3, 2.5, True, "10"):
+        with pytest.raises(fw.errors.ParameterError, match="max_couplings"):
+            fw.Options(max_couplings=bad)
+    assert fw.Options().max_couplings is None and fw.Options(max_couplings=250).max_couplings == 250

@@ -228,7 +228,9 @@ class ContactCoupling:
         raise ConvergenceError(f"contact and inhomogeneities did not converge in {self.max_couplings} coupling "
                                f"iterations: the eigenstrains' surface displacement still changes by {change:.3g} of "
                                f"the surface displacement, tolerance {self.tolerance:g}, and the equivalent-inclusion "
-                               f"residual is {relative:.3g} of its right-hand side, tolerance {self.inclusion_tolerance:g}")
+                               f"residual is {relative:.3g} of its right-hand side, tolerance {self.inclusion_tolerance:g} "
+                               f"(Options.max_couplings allows more iterations, Options.coupling_tolerance a looser "
+                               f"tolerance)")
 
     def snapshot(self):
         """The coupling's memory as arrays (for a checkpoint), keys prefixed ``inclusion_``."""
