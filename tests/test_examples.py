@@ -7,7 +7,8 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 #: Examples whose small-grid run takes ten seconds to minutes: run by `make test-all`.
-SLOW = {"rolling_over_inhomogeneity.py", "inhomogeneity_under_contact.py", "dma_to_rolling.py"}
+SLOW = {"rolling_over_inhomogeneity.py", "inhomogeneity_under_contact.py", "dma_to_rolling.py",
+        "filled_polymer.py"}     # (its quick path runs in tests/test_filled_polymer_example.py)
 EXAMPLES = [pytest.param(path, marks=pytest.mark.slow) if os.path.basename(path) in SLOW else path
             for path in sorted(glob.glob(os.path.join(ROOT, "examples", "*.py")))]
 
