@@ -103,7 +103,7 @@ def box_solve(n):
     applied = strain_vector(np.diag([1e-3, 0.0, 0.0]), name="applied_strain")
     with traced() as memory:
         begin = time.perf_counter()
-        problem = InclusionProblem(grid, STEEL, inclusions.InclusionSet([sphere]), margin=0.0)
+        problem = InclusionProblem(grid, STEEL, inclusions.InclusionSet([sphere]), margin=0.0, recycle=False)
         build = time.perf_counter() - begin
         begin = time.perf_counter()
         solution = problem.problem.solve(applied, tolerance=1e-10)

@@ -1,7 +1,7 @@
 """Inhomogeneities in an elastic half-space under a uniform applied strain (``fw.solve_inclusions``)."""
 import numpy as np
 
-from .._validation import check_finite_array
+from .._validation import check_bool, check_finite_array
 from ..errors import InclusionError, ParameterError, ShapeError
 from ..materials import Elastic, Viscoelastic, isotropic_tensor
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
@@ -144,9 +144,12 @@ class InclusionProblem:
         stiffness): the interior stress is 6 times closer to Eshelby's and the boundary cuboids
         free of the staircase's stripes, for about twice the GMRES iterations. :attr:`indicator`
         stays the staircase's either way; :attr:`fraction` is each cuboid's share of a body.
+    recycle : bool
+        Keep the Krylov directions of each solve for the next ones (a run's sequence of solves); False for
+        one solve (:func:`solve_inclusions`), which then spends nothing on keeping them.
     """
 
-    def __init__(self, grid, matrix, inclusions, margin=None, travel=None, geometry="staircase"):
+    def __init__(self, grid, matrix, inclusions, margin=None, travel=None, geometry="staircase", recycle=True):
         from .subcell import GEOMETRIES, cut_cell_materials
         if geometry not in GEOMETRIES:
             raise ParameterError(f"geometry must be one of {', '.join(map(repr, GEOMETRIES))}, got {geometry!r}")
@@ -208,7 +211,8 @@ class InclusionProblem:
             starts = self._check_travel(start, travel)
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
                                              starts=starts)
-        self.problem = EquivalentInclusionProblem(self.operator, materials, solved, instantaneous(matrix))
+        self.problem = EquivalentInclusionProblem(self.operator, materials, solved, instantaneous(matrix),
+                                                  recycle=check_bool(recycle, name="recycle"))
         for k in range(len(inclusions)):
             if not np.any(self.indicator == k + 1):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
@@ -377,7 +381,7 @@ def solve_inclusions(grid, matrix, inclusions, applied_strain, tolerance=1e-10, 
         raise ParameterError(f"applied_strain must be small, every component at most {LARGEST_STRAIN:g} in magnitude "
                              f"(linear elasticity), got a largest component of {float(np.max(np.abs(applied))):g}")
     from ..resolution import check_bodies
-    problem = InclusionProblem(grid, matrix, inclusions, margin=margin, geometry=geometry)
+    problem = InclusionProblem(grid, matrix, inclusions, margin=margin, geometry=geometry, recycle=False)
     check_bodies(grid, inclusions, stacklevel=2)   # after the problem's own checks: only for bodies it accepts
     solution = problem.problem.solve(applied, tolerance=tolerance)
     return InclusionSolution(problem, applied, solution)
