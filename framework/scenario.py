@@ -21,6 +21,7 @@ problem.
 import dataclasses
 import os
 import pathlib
+import re
 import unicodedata
 import warnings
 
@@ -29,7 +30,7 @@ import numpy as np
 from . import materials
 from ._validation import check_bool, check_inside, check_positive_int, check_real
 from .config import build
-from .errors import FrameworkError, ParameterError
+from .errors import FrameworkError, InclusionError, ParameterError
 
 try:
     import tomllib
@@ -420,15 +421,32 @@ def dispersions_from_tables(tables):
     list of framework.inclusions.Ellipsoid
         Mistakes raise :class:`ParameterError` naming ``dispersions[i].key``.
     """
+    return [body for placed in _dispersion_tables(tables) for body in placed]
+
+
+def _dispersion_tables(tables):
+    """The bodies of each ``[[dispersions]]`` table, one list per table."""
     from .inclusions import random_dispersion
-    bodies = []
+    out = []
     for name, table in _array_of_tables(tables, "dispersions", list(DISPERSION_KEYS), DISPERSION_REQUIRED):
         arguments = dict(table, material=_inclusion_material(table["material"], f"{name}.material"))
         try:
-            bodies.extend(random_dispersion(**arguments))
+            out.append(list(random_dispersion(**arguments)))
         except FrameworkError as exc:  # the message names the argument: fraction, region[2], radius[1][0]...
             raise ParameterError(f"{name}: {exc}") from exc
-    return bodies
+    return out
+
+
+def _check_bodies_apart(bodies, listed):
+    """Raise for bodies of the ``[[inclusions]]`` (the first ``listed``) and ``[[dispersions]]`` tables that overlap,
+    naming each by its table (``dispersions[1] body 17``), not by its place in the combined list."""
+    from .inclusions import InclusionSet
+    labels = [f"inclusions[{i}]" for i in range(listed)] + [
+        f"dispersions[{t}] body {k}" for t, placed in enumerate(bodies[1]) for k in range(len(placed))]
+    try:
+        InclusionSet(bodies[0] + [body for placed in bodies[1] for body in placed])
+    except InclusionError as exc:
+        raise InclusionError(re.sub(r"inclusions\[(\d+)\]", lambda m: labels[int(m.group(1))], str(exc))) from exc
 
 
 def _output(table):
@@ -527,7 +545,9 @@ def parse(data, source="<scenario>", *, folder=None, memory=None):
         output = _output(data.get("output", {}))
         bodies = inclusions_from_tables(data["inclusions"]) if "inclusions" in data else None
         if "dispersions" in data:
-            bodies = (bodies or []) + dispersions_from_tables(data["dispersions"])
+            placed = _dispersion_tables(data["dispersions"])
+            _check_bodies_apart((list(bodies or []), placed), len(bodies or []))
+            bodies = list(bodies or []) + [body for table in placed for body in table]
         if memory is not None:
             _check_memory(grid, material, bodies, options, memory)
         try:

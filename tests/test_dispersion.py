@@ -343,3 +343,19 @@ def test_one_body_in_a_dispersion_is_the_one_body_run():
     for a, b in zip(*(run.records for run in runs)):
         assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.eigenstrain, b.eigenstrain)
         assert a.approach == b.approach
+
+
+def test_overlapping_tables_are_named_by_table():
+    """A body of an [[inclusions]] table overlapping one a [[dispersions]] table placed, or two dispersions' bodies
+    overlapping, are named by their table and place in it, not by their place in the combined list."""
+    tables = tomllib.loads(SCENARIO)
+    placed = random_dispersion(0.1, ((-0.25e-3, 0.25e-3), (-0.25e-3, 0.25e-3), (0.02e-3, 0.28e-3)), 80e-6, GLASS,
+                               seed=3)
+    tables["inclusions"] = [{"center": list(placed[1].center), "semi_axes": [20e-6] * 3,
+                             "material": {"young": 70e9, "poisson": 0.22}}]
+    with pytest.raises(errors.FrameworkError, match=r"inclusions\[0\] and dispersions\[0\] body 1 overlap"):
+        scenario.parse(copy.deepcopy(tables))
+    del tables["inclusions"]
+    tables["dispersions"].append(dict(tables["dispersions"][0]))        # the same bodies again
+    with pytest.raises(errors.FrameworkError, match=r"dispersions\[0\] body 0 and dispersions\[1\] body 0 overlap"):
+        scenario.parse(tables)
