@@ -373,3 +373,30 @@ def test_max_couplings_is_an_option():
         with pytest.raises(fw.errors.ParameterError, match="max_couplings"):
             fw.Options(max_couplings=bad)
     assert fw.Options().max_couplings is None and fw.Options(max_couplings=250).max_couplings == 250
+
+
+@pytest.mark.parametrize("case", [BOXES[1], BOXES[3]])
+def test_pressure_stress_on_a_window_equals_the_whole_grids(case, monkeypatch):
+    """The contact's stress at the box from transforms over the loaded cells and the footprint (grown by the slack)
+    equals the whole grid's map to 1e-12: a compact pressure beside the box, one that grows out of the window (a new
+    window), one over the whole grid (the grid's map), and after the box moved (a rolling box)."""
+    from framework.operators import eigenstrain as module
+    monkeypatch.setattr(module, "PRESSURE_WINDOW_SLACK", 2)      # (the test's grids are small)
+    grid, operator = box_case(*case)
+    rng = np.random.default_rng(5)
+    whole = operator._grid_map()
+    patches = [(slice(2, 9), slice(3, 8)), (slice(1, 20), slice(2, 25)), (slice(0, grid.shape[0]),
+                                                                           slice(0, grid.shape[1]))]
+    for step, patch in enumerate(patches):
+        if case[-1] and step == 1:
+            operator.move((2, -1))
+        pressure = np.zeros(grid.shape)
+        pressure[patch] = rng.random(pressure[patch].shape) * 1e6
+        expected = whole.box_stress(whole.spectrum(pressure))
+        windowed = operator.pressure_stress(pressure)
+        assert np.abs(windowed - expected).max() <= 1e-12 * np.abs(expected).max()
+        if step == 0:       # a window smaller than the grid was used
+            assert operator._pressure_surface is not whole
+            union = max(9, operator.start[0] + operator.shape[0]) - min(2, operator.start[0])
+            assert operator._pressure_surface.size[0] <= union + 2 * module.PRESSURE_WINDOW_SLACK < grid.shape[0]
+    assert not operator.pressure_stress(np.zeros(grid.shape)).any()

@@ -346,6 +346,10 @@ ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 #: 611 and 682 ms estimated, for 5.6 s of planning; this machine, one thread).
 MEASURED_FFT_POINTS = 2 ** 25
 
+#: Cells by which :meth:`HalfSpaceEigenstrain.pressure_stress` grows the window of the pressure and the box's
+#: footprint it transforms: the window is kept while they stay inside it.
+PRESSURE_WINDOW_SLACK = 16
+
 
 def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None):
     """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra of ``C : D``.
@@ -495,6 +499,7 @@ class HalfSpaceEigenstrain:
         self._starts = [tuple(start[:2])] if starts is None else [tuple(int(c) for c in s[:2]) for s in starts]
         self._surface = BoxSurface(grid, poisson, self.patch, start, shape, traction=self._traction, starts=self._starts)
         self._grid_surface = None
+        self._pressure_surface = None
         self._ffts = {}
 
     def _box_spectra(self, cell, blocks):
@@ -558,9 +563,40 @@ class HalfSpaceEigenstrain:
 
     def pressure_stress(self, pressure):
         """Stress ``(m1, m2, m3, 6)`` [Pa] at the box's cuboid centres of a surface pressure ``(n1, n2)`` [Pa]
-        on the grid (Love's coefficients; the homogeneous half-space)."""
-        surface = self._grid_map()
-        return surface.box_stress(surface.spectrum(pressure))
+        on the grid (Love's coefficients; the homogeneous half-space).
+
+        The transforms cover the cells that hold pressure and the box's footprint (grown by
+        :data:`PRESSURE_WINDOW_SLACK` cells, so that a contact that grows a little or a box that moves a few
+        cells keeps the same map), not the grid: a contact over a box is a fraction of a grid that also holds
+        its surroundings (the static bench, 128^2 cells: 64^2-point transforms per layer instead of 256^2).
+        The pressure outside is zero, so the result is the whole grid's to rounding.
+        """
+        pressure = np.asarray(pressure, dtype=float)
+        loaded = [np.flatnonzero(pressure.any(axis=1 - axis)) for axis in range(2)]
+        if not loaded[0].size:
+            return np.zeros((*self.shape, 6))
+        need = [(min(int(cells[0]), self.start[axis]), max(int(cells[-1]) + 1, self.start[axis] + self.shape[axis]))
+                for axis, cells in enumerate(loaded)]
+        surface = self._pressure_surface
+        if surface is None or not all(
+                low >= region.start and high <= region.stop and first <= start - region.start <= last
+                for (low, high), region, first, last, start in zip(need, surface.region, surface.first, surface.last,
+                                                                    self.start)):
+            surface = self._pressure_surface = self._pressure_map(need)
+        surface.move(self.start[:2])
+        return surface.box_stress(surface.spectrum(pressure[surface.region]))
+
+    def _pressure_map(self, need):
+        """The surface map of :meth:`pressure_stress` for a pressure and a footprint within ``need`` [(low, high)
+        per axis]: those cells grown by the slack (the whole grid's map when that is nearly the grid)."""
+        slack = PRESSURE_WINDOW_SLACK
+        region = tuple(slice(max(0, low - slack), min(n, high + slack)) for (low, high), n in zip(need, self.grid.shape))
+        if np.prod([r.stop - r.start for r in region]) > 0.5 * np.prod(self.grid.shape):
+            return self._grid_map()
+        # every start whose footprint stays in the region: the box may move there without a new map
+        starts = [(region[0].start, region[1].start),
+                  (region[0].stop - self.shape[0], region[1].stop - self.shape[1])]
+        return BoxSurface(self.grid, self.poisson, region, self.start, self.shape, starts=starts)
 
     @property
     def box(self):
