@@ -118,3 +118,37 @@ def test_stress_at_points_is_refused_with_a_viscoelastic_matrix():
     held = run(SOLID, times=[0.5])
     with pytest.raises(fw.errors.ParameterError, match="stress_at: with inhomogeneities in a viscoelastic matrix"):
         held.stress_at(0, np.array([[0.0, 0.0, 0.1e-3]]))
+
+
+def test_resume_from_a_checkpoint_with_the_histories_on_the_whole_box(tmp_path, stop_after, monkeypatch):
+    """A checkpoint written when the contact strain's and e~'s histories lived on the whole box (zero outside the
+    bodies for e~; the contact strain's anywhere) resumes on the bodies' cuboids: the same run bit for bit."""
+    from framework.inclusions.coupling import ContactCoupling
+    grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=16)
+    bodies = [inclusions.Ellipsoid(center=(0.0, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3, material=CARBIDE)]
+
+    def simulation():
+        return fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=10e-3),
+                             schedule=schedules.Static(load=loads.Step(40.0), times=[0.1, 0.5, 1.0, 2.0]),
+                             inclusions=bodies)
+
+    whole = simulation().run()
+    snapshot = ContactCoupling.snapshot
+
+    def on_the_box(self):       # the cuboids' arrays written as box fields, as the earlier version did
+        out = snapshot(self)
+        inner = self.problem.problem
+        for key, value in out.items():
+            if key.startswith(("inclusion_creep_", "inclusion_weighted_")) and np.ndim(value) >= 2 \
+                    and np.shape(value)[-2:] == (inner.material.size, 6):
+                box = np.random.default_rng(1).normal(size=(*np.shape(value)[:-2], *self.problem.shape, 6))
+                box[(slice(None),) * (np.ndim(value) - 2) + inner.cells] = value
+                out[key] = box
+        return out
+    monkeypatch.setattr(ContactCoupling, "snapshot", on_the_box)
+    stop_after(simulation(), 1, tmp_path / "c.h5")
+    monkeypatch.undo()
+    resumed = simulation().run(resume=tmp_path / "c.h5")
+    for a, b in zip(resumed.records, whole.records):
+        assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.eigenstrain, b.eigenstrain)
+        assert np.array_equal(a.relaxed_eigenstrain, b.relaxed_eigenstrain)

@@ -101,10 +101,12 @@ class ContactCoupling:
         self.tolerance, self.inclusion_tolerance, self.max_couplings = tolerance, inclusion_tolerance, max_couplings
         integrator = PronyRecursion if history == "recursive" else HereditarySum
         creep, relaxation = matrix_series(problem.matrix)
-        shape = (*problem.shape, 6)
-        self._creep, self._relaxation = integrator(creep, shape), integrator(relaxation, shape)
-        # e~ = R * de*, for the eigenstrains' stress beyond the box (only where R has memory)
-        self._weighted = integrator(relaxation, shape) if relaxation.terms else None
+        shape, cells = (*problem.shape, 6), (problem.problem.material.size, 6)
+        # the contact's strain is only needed on the inhomogeneities' cuboids, and e~ = R * de* (for the eigenstrains'
+        # stress beyond the box, only where R has memory) is zero outside them: their histories live there (a
+        # dispersion at 10 % fills a tenth of its box); the matrix's stress is needed on the whole box
+        self._creep, self._relaxation = integrator(creep, cells), integrator(relaxation, shape)
+        self._weighted = integrator(relaxation, cells) if relaxation.terms else None
         self.eigenstrain = None     # the last step's, to start the next one from
         self.disturbance = None     # D[eigenstrain], known from its solve: saves a product per solve
         self.displacement = 0.0
@@ -130,28 +132,29 @@ class ContactCoupling:
 
     def commit(self, step):
         """Remember the converged step (its contact stress and equivalent-body field)."""
-        self._creep.commit(self._time, step.contact_stress)
+        inner = self.problem.problem
+        self._creep.commit(self._time, step.contact_stress[inner.cells])
         self._relaxation.commit(self._time, step.field)
         if self._weighted is not None:
-            self._weighted.commit(self._time, step.eigenstrain)
-        inner = self.problem.problem
+            self._weighted.commit(self._time, step.eigenstrain[inner.cells])
         self.past = (self.past + [(self._time, step.eigenstrain[inner.cells] * MANDEL)])[-PREDICTOR_STEPS:]
 
     def _right(self, pressure):
         """The equivalent-inclusion system's right-hand side (Mandel, ``(N, 6)``) for the contact pressure, with
-        the contact's stress at the box, the matrix's stress and the strain without inhomogeneities."""
+        the contact's stress at the box, the matrix's stress and the strain without inhomogeneities (on the
+        inhomogeneities' cuboids, ``(N, 6)``, tensor shears)."""
         problem, nu = self.problem, self.problem.matrix.poisson
         inner = problem.problem
+        cells = inner.cells
         contact_stress = problem.operator.pressure_stress(pressure)
-        creep = self._compliance * contact_stress
+        creep = self._compliance * contact_stress[cells]
         if self._creep_history is not None:
             creep = creep + self._creep_history
         strain0 = strain_from_stress(creep, nu)                   # e0 (unit-modulus compliance times J)
         matrix_stress = contact_stress if self._relaxation_history is None \
             else contact_stress + self._relaxation_history
-        cells = inner.cells
         right = (matrix_stress[cells] * MANDEL
-                 - inner.per_material(inner.stiffness, strain0[cells] * MANDEL))
+                 - inner.per_material(inner.stiffness, strain0 * MANDEL))
         return right, contact_stress, matrix_stress, strain0
 
     def _outputs(self, eigenstrain, disturbance, matrix_stress, strain0):
@@ -159,8 +162,8 @@ class ContactCoupling:
         inner, nu = self.problem.problem, self.problem.matrix.poisson
         field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
         stress = matrix_stress + self._modulus * field
-        strain = strain0 + disturbance
-        stress[inner.cells] = inner.per_material(inner.stiffness, strain[inner.cells] * MANDEL) / MANDEL
+        strain = strain0 + disturbance[inner.cells]
+        stress[inner.cells] = inner.per_material(inner.stiffness, strain * MANDEL) / MANDEL
         return stress, field
 
     def solve(self, solve_contact):
@@ -222,8 +225,10 @@ class ContactCoupling:
                     inner.products += 1
                 stress, field = self._outputs(eigenstrain, disturbance, matrix_stress, strain0)
                 self.eigenstrain, self.disturbance, self.displacement = eigenstrain, disturbance, displacement
-                relaxed = None if self._weighted is None or self._weighted_history is None \
-                    else self._modulus * eigenstrain + self._weighted_history
+                relaxed = None
+                if self._weighted is not None and self._weighted_history is not None:
+                    relaxed = self._modulus * eigenstrain
+                    relaxed[inner.cells] += self._weighted_history
                 return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field,
                                    relaxed)
             correction = inner._precondition(residual.ravel(), deflation)
@@ -284,6 +289,11 @@ class ContactCoupling:
             if name == "weighted" and not kept:     # a checkpoint written before e~ was carried: not known
                 self._weighted = None
                 continue
+            if name != "relaxation":        # written when these histories lived on the whole box: their cuboids
+                box, inner = (*self.problem.shape, 6), self.problem.problem
+                kept = {key: value[(slice(None),) * (np.ndim(value) - 4) + inner.cells]
+                        if np.ndim(value) >= 4 and np.shape(value)[-4:] == box else value
+                        for key, value in kept.items()}
             integrator.restore(kept)
 
     def _integrators(self):
