@@ -65,7 +65,7 @@ def test_references():
 
 
 def test_filled_approach_tends_to_the_layered_reference():
-    """41 beads of radius a/3 (5 cuboids per radius, seed 0, ~20 s): the approach, divided by the plain grid's
+    """41 beads of radius a/3 (5 cuboids per radius, seed 0, 11 s): the approach, divided by the plain grid's
     error, lies between Hertz on the matrix and on the homogenised half-space, and nearer the layered reference
     than either: measured -14.66 % of the matrix's against layered -14.18 % (0.56 % off), homogenised -21.89 %
     (9.3 % off) and the matrix (14.7 % off). The contact radius (-7.5 %) lies nearer the gapped reference's
@@ -87,7 +87,7 @@ def test_filled_approach_tends_to_the_layered_reference():
 @pytest.mark.slow
 def test_trend_over_bead_size():
     """Beads of a/3, a/5 (cuboids a/15: 5 and 3 per radius) and a/6 (cuboids a/18: 3 per radius), seeds 0-2
-    (41, 191, 330 beads; about 4 minutes): as the beads shrink, the contact radius's excess over the layered
+    (41, 191, 330 beads; 188 s here): as the beads shrink, the contact radius's excess over the layered
     reference shrinks with the bead radius (measured means +4.5, +3.0, +1.9 %; with six seeds +5.1, +4.2 (a/4),
     +3.0, +2.3 %), as the gapped reference's does (its top gap is one bead radius); the approach stays within
     1.5 % of the layered reference at every size (means +0.5, -0.6, -0.7 %) and 0 to 3 % stiffer than the gapped
