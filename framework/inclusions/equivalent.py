@@ -50,16 +50,17 @@ IMAGES_BYTES = 768 * 2**20
 #: Memory the Fourier preconditioner's per-wavenumber matrices may take [bytes] (else each cuboid is solved alone).
 FOURIER_BYTES = 256 * 2**20
 
-#: Bodies the Fourier preconditioner fills the box with, at their own stiffness, at most. It fills the box with
+#: Bodies the Fourier preconditioner fills the box with, at their own stiffness, at most: one. It fills the box with
 #: the bodies' material, matrix between them included: right for one body (no unknowns outside it), ever more
-#: wrong for a dispersion (glass spheres at 10 % in a polymer, to 1e-7: 10 bodies 19 iterations, 30 bodies 21,
-#: 40 bodies 79, 60 bodies no convergence in 500; 28 cuboid by cuboid). More bodies fill it with a medium of
-#: :data:`DISPERSION_CONTRAST` of their contrast with the matrix instead.
-FOURIER_BODIES = 16
+#: wrong for several (glass spheres at 10 % in a polymer, to 1e-7, 4 cuboids per radius: 2 / 4 / 8 / 12 / 16 bodies
+#: 20 / 17 / 18 / 27 / 37 iterations at their own contrast, 15 / 15 / 16 / 16 / 16 at DISPERSION_CONTRAST; 40 bodies
+#: 79, 60 none in 500 at their own; 12 beads at 20 % under a contact did not converge in 100 couplings). More
+#: bodies fill it with a medium of :data:`DISPERSION_CONTRAST` of their contrast with the matrix instead.
+FOURIER_BODIES = 1
 
 #: The share of the bodies' contrast with the matrix (``C_I - C_M``) the Fourier preconditioner takes for more
 #: than :data:`FOURIER_BODIES` bodies: the same dispersions took 16 iterations at 0.3 for 30, 60 and 100 bodies
-#: (17 at 0.1), against 28 cuboid by cuboid.
+#: (17 at 0.1), against 28 cuboid by cuboid; 15-16 for 2 to 16 bodies.
 DISPERSION_CONTRAST = 0.3
 
 #: Cuboids of matrix between the bodies' periodic images on the box's own lattice, along every axis, for the
