@@ -115,9 +115,9 @@ class RecycledSpace:
     steps' directions keep serving the later ones).
     """
 
-    def __init__(self, size, keep=True):
+    def __init__(self, size):
         self.size = size
-        self.kept = max(0, min(RECYCLED, RECYCLED_BYTES // max(1, 24 * size))) if keep else 0
+        self.kept = max(0, min(RECYCLED, RECYCLED_BYTES // max(1, 24 * size)))
         self.clear()
 
     def clear(self):
@@ -329,7 +329,10 @@ class EquivalentInclusionProblem:
     young : float
         Young's modulus of the matrix [Pa] (its Poisson ratio is the operator's).
     recycle : bool
-        Keep the directions of each solve to deflate the next ones (:class:`RecycledSpace`).
+        Keep the directions of each solve to deflate the next ones (:class:`RecycledSpace`); False: only
+        within a solve, across its restarts (a hard one needs them: a sphere 1e6 times stiffer than its
+        matrix stalled without), and not its last cycle's (at 64^3 keeping a one-cycle solve's 11
+        directions took 1 s of 8).
     """
 
     def __init__(self, operator, indicator, stiffnesses, young, preconditioner="auto", recycle=True):
@@ -356,8 +359,8 @@ class EquivalentInclusionProblem:
         self.preconditioner = preconditioner
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
-        # (one solve alone keeps none: at 64^3 keeping its 11 directions took 1 s of 8)
-        self.recycled = RecycledSpace(6 * self.material.size, keep=recycle)
+        self.recycled = RecycledSpace(6 * self.material.size)
+        self.recycle = recycle
         self.products = 0           # eigenstrain-operator products so far
         self.young = None
         self.set_modulus(young)
@@ -551,9 +554,10 @@ class EquivalentInclusionProblem:
                 pending = step if pending is None else pending + step
                 residual = (beta * np.eye(used + 1)[0] - arnoldi[:used + 1, :used] @ weights) @ basis[:used + 1]
             del basis, step
-            self.recycled.add(directions[:used], cells_images[:used], self._image, self.young)
-            del directions, images, cells_images
             beta = np.linalg.norm(residual)
+            if self.recycle or (beta > target and iterations < max_iterations):     # (else no cycle follows)
+                self.recycled.add(directions[:used], cells_images[:used], self._image, self.young)
+            del directions, images, cells_images
             if pending is not None and (beta <= target or iterations >= max_iterations):
                 disturbance = disturbance + self.operator.strain(self.box_field(pending))
                 self.products += 1
