@@ -402,7 +402,7 @@ def test_pressure_stress_on_a_window_equals_the_whole_grids(case, monkeypatch):
     assert not operator.pressure_stress(np.zeros(grid.shape)).any()
 
 
-@pytest.mark.parametrize("path", ["static viscoelastic, two bodies", "rolling viscoelastic, one body"])
+@pytest.mark.parametrize("path", ["static elastic, one body", "rolling viscoelastic, one body"])
 def test_a_large_boxs_coupling_keeps_its_iterates_on_the_bodies(path, monkeypatch):
     """Iterates whose strains are kept on the bodies' cuboids only (a box too large for ANDERSON_BYTES) and the
     converged strain on the box by one more product a step: the same pressure, eigenstrain and box stress as the
