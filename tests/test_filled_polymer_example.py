@@ -1,5 +1,6 @@
 """examples/filled_polymer.py: its ``--quick`` path (glass beads at 0 and 10 %, one seed, 8 steps) from the command
-line, its outputs, and what the physics says about them (about 15-25 s)."""
+line, its outputs, and what the physics says about them (about 15-25 s, under ``make test-all``); in the default
+suite the same pipeline at 0 % only, in-process."""
 import csv
 import os
 import subprocess
@@ -35,6 +36,7 @@ def quick(tmp_path_factory):
     return out, rows, done.stdout
 
 
+@pytest.mark.slow       # (the quick run: 23 s; the default suite runs the pipeline at 0 % below)
 def test_quick_run_writes_the_table_and_the_pictures(quick):
     """The CSV has the documented columns, one row per run (beads at 0 and 10 %, seed 1), the total time is printed,
     and the three pictures are PNG files (their 8-byte signature)."""
@@ -52,6 +54,7 @@ def test_quick_run_writes_the_table_and_the_pictures(quick):
             assert f.read(8) == PNG_SIGNATURE, name
 
 
+@pytest.mark.slow       # (the quick run: 23 s; the default suite runs the pipeline at 0 % below)
 def test_zero_fraction_equals_the_homogenised_matrix(quick):
     """At 0 % the filled run has no bodies and Mori-Tanaka returns the matrix itself, so the two runs (separate
     simulations of the same material) must give the same friction and peak von Mises stress to round-off
@@ -63,6 +66,7 @@ def test_zero_fraction_equals_the_homogenised_matrix(quick):
     assert float(zero["von_mises_peak"]) == pytest.approx(float(zero["homogenised_von_mises"]), rel=1e-12)
 
 
+@pytest.mark.slow       # (the quick run: 23 s; the default suite runs the pipeline at 0 % below)
 def test_glass_beads_lower_friction_as_the_homogenised_material_does(quick):
     """Stiff elastic glass takes part of the strain off the lossy matrix: Mori-Tanaka's composite at 10 % rolls with
     less friction than the matrix (measured 2.200e-3 against 2.263e-3, -2.7 %), and so does this realisation of the
@@ -76,6 +80,7 @@ def test_glass_beads_lower_friction_as_the_homogenised_material_does(quick):
     assert float(filled["friction"]) < float(plain["friction"])
 
 
+@pytest.mark.slow       # (the quick run: 23 s; the default suite runs the pipeline at 0 % below)
 def test_beads_concentrate_the_stress_above_the_homogenised_peak(quick):
     """A glass bead under the contact carries Eshelby's concentration of the local deviatoric stress: for glass
     (G = 28.7 GPa) in the glassy matrix (G = 1.11 GPa, nu = 0.35) 2.07 times, so the peak von Mises stress over matrix
@@ -89,3 +94,23 @@ def test_beads_concentrate_the_stress_above_the_homogenised_peak(quick):
     assert concentration == pytest.approx(2.07, abs=0.01)
     assert float(filled["von_mises_peak"]) > 1.5 * float(filled["homogenised_von_mises"])
     assert float(filled["von_mises_matrix"]) > float(filled["homogenised_von_mises"])
+
+
+def test_the_pipeline_at_zero_fraction_writes_the_table_and_equals_the_homogenised_matrix(tmp_path):
+    """The example's main at 0 % only (3 steps): the CSV's columns, the PNGs, and the unfilled run equal to the
+    homogenised one (both are the matrix: a difference of exactly zero)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("filled_polymer_example", EXAMPLE)
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    import matplotlib
+    matplotlib.use("Agg")
+    rows = example.main(out=str(tmp_path), fractions=(0.0,), seeds=(1,), steps=3, window=2, kinds=("beads",))
+    with open(tmp_path / "filled_polymer.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert list(table[0]) == COLUMNS and len(table) == len(rows) == 1
+    assert float(table[0]["friction"]) == float(table[0]["homogenised_friction"]) > 0.0
+    assert float(table[0]["von_mises_peak"]) == float(table[0]["homogenised_von_mises"])
+    for name in ("friction_vs_fraction.png", "von_mises_vs_fraction.png"):
+        with open(tmp_path / name, "rb") as f:
+            assert f.read(8) == PNG_SIGNATURE
