@@ -68,16 +68,18 @@ def test_recursive_and_hereditary_histories_agree():
             <= 1e-7 * np.abs(recursive.eigenstrain(step)).max()
 
 
-def test_resume_carries_the_matrix_memory(tmp_path, stop_after):
-    """A viscoelastic run stopped after two steps and resumed from its checkpoint equals the whole run."""
+def held_carbide():
+    """A carbide sphere under a held load on the standard linear solid, four output times."""
     grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=16)
     bodies = [inclusions.Ellipsoid(center=(0.0, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3, material=CARBIDE)]
+    return fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=10e-3),
+                         schedule=schedules.Static(load=loads.Step(40.0), times=[0.1, 0.5, 1.0, 2.0]),
+                         inclusions=bodies)
 
-    def simulation():
-        return fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=10e-3),
-                             schedule=schedules.Static(load=loads.Step(40.0), times=[0.1, 0.5, 1.0, 2.0]),
-                             inclusions=bodies)
 
+def test_resume_carries_the_matrix_memory(tmp_path, stop_after):
+    """A viscoelastic run stopped after two steps and resumed from its checkpoint equals the whole run."""
+    simulation = held_carbide
     whole = simulation().run()
 
     stop_after(simulation(), 1, tmp_path / "c.h5")
@@ -124,14 +126,7 @@ def test_resume_from_a_checkpoint_with_the_histories_on_the_whole_box(tmp_path, 
     """A checkpoint written when the contact strain's and e~'s histories lived on the whole box (zero outside the
     bodies for e~; the contact strain's anywhere) resumes on the bodies' cuboids: the same run bit for bit."""
     from framework.inclusions.coupling import ContactCoupling
-    grid = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=16)
-    bodies = [inclusions.Ellipsoid(center=(0.0, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3, material=CARBIDE)]
-
-    def simulation():
-        return fw.Simulation(grid=grid, material=SOLID, indenter=indenters.Sphere(radius=10e-3),
-                             schedule=schedules.Static(load=loads.Step(40.0), times=[0.1, 0.5, 1.0, 2.0]),
-                             inclusions=bodies)
-
+    simulation = held_carbide
     whole = simulation().run()
     snapshot = ContactCoupling.snapshot
 
