@@ -178,7 +178,7 @@ def rolling_references(fraction, bead, depth=DEPTH, cells=32):
     gap ``bead`` [m] (``layered_steady_sphere`` on a periodic grid 24 a wide: the material's memory of its last
     pass, exp(-24 a / 0.82 a), and the images, (1/24)^3, are below 1e-4)."""
     from framework.reference import steady_sphere
-    from framework.reference.layered import layered_steady_sphere
+    from framework.reference.layered_rolling import layered_steady_sphere
     effective = mori_tanaka(VISCOUS, GLASS, fraction)
     half = 1.5 * CONTACT
 

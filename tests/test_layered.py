@@ -34,7 +34,8 @@ from framework.errors import ParameterError
 from framework.materials import Elastic, Viscoelastic
 from framework.reference import HertzSphere, steady_sphere
 from framework.reference.layered import (influence_coefficients, layered_compliance, layered_sphere_contact,
-                                        layered_steady_sphere, stack_compliance)
+                                        stack_compliance)
+from framework.reference.layered_rolling import layered_steady_sphere
 
 MATRIX = Elastic(3e9, 0.35)                   # PMMA-like
 LAYER = Elastic(4.2e9, 0.33)                  # a filled layer, stiffer

@@ -18,7 +18,8 @@
 - :mod:`.mori_tanaka`: Mori-Tanaka (Benveniste 1987) effective stiffness of a matrix with aligned,
   planar or randomly oriented spheroids; a viscoelastic matrix by the correspondence principle.
 - :mod:`.layered`: an elastic layer (or a stack) bonded to a half-space (Chen & Engel 1972; O'Sullivan &
-  King 1988): surface compliance, a rigid sphere's contact, and steady rolling on viscoelastic layers.
+  King 1988): surface compliance and a rigid sphere's contact; :mod:`.layered_rolling`: steady rolling on
+  viscoelastic layers.
 """
 from .boussinesq import (point_load_displacement, point_load_stress, rectangle_displacement_by_quadrature,
                          rectangle_stress_by_quadrature)
@@ -38,8 +39,8 @@ from .eigenstrain import (kelvin_cuboid_strain, kelvin_point_force_displacement,
                           mindlin_cuboid_surface_displacement, mindlin_point_force_displacement)
 from .mori_tanaka import (HomogenisedViscoelastic, mori_tanaka, mori_tanaka_fit, mori_tanaka_moduli,
                           mori_tanaka_stiffness)
-from .layered import (LayeredSphereContact, LayeredSteadySphere, layered_compliance, layered_sphere_contact,
-                      layered_steady_sphere, stack_compliance)
+from .layered import LayeredSphereContact, layered_compliance, layered_sphere_contact, stack_compliance
+from .layered_rolling import LayeredSteadySphere, layered_steady_sphere
 
 __all__ = ["FlatPunch", "HertzCylinder", "HertzSphere", "RoundedFlatPunch", "SteadyLineContact", "SteadySphereContact",
            "TingSolution", "Westergaard",
