@@ -376,7 +376,7 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
     whole = blocks is None
     blocks = [(0, n3 // 2 + 1)] if whole else blocks
     quarter = (n1 // 2 + 1, n2 // 2 + 1)
-    out = {k0: [None, None] for k0, _ in blocks}
+    parts = ({}, {})        # the direct and the mirror kernels, by block
     for faces3, part in ((faces[2], 0), (mirror_faces, 1)):
         # the keys' spectra per block, then the entries as one matrix product a block (87 scaled additions of
         # whole spectra read the memory 3 times each: a fifth of a 128^3 box's build)
@@ -399,9 +399,9 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
                 keys[k0][index] = spectrum[..., k0:k1]
         for k0, k1 in blocks:
             block = keys.pop(k0)
-            out[k0][part] = (weights @ block.reshape(len(KEYS), -1)).reshape(len(ENTRIES), *quarter, k1 - k0)
+            parts[part][k0] = (weights @ block.reshape(len(KEYS), -1)).reshape(len(ENTRIES), *quarter, k1 - k0)
             del block
-    out = {k0: tuple(pair) for k0, pair in out.items()}
+    out = {k0: (parts[0][k0], parts[1][k0]) for k0, _ in blocks}
     return out[0] if whole else out
 
 
