@@ -437,14 +437,15 @@ def _dispersion_tables(tables):
     return out
 
 
-def _check_bodies_apart(bodies, listed):
-    """Raise for bodies of the ``[[inclusions]]`` (the first ``listed``) and ``[[dispersions]]`` tables that overlap,
-    naming each by its table (``dispersions[1] body 17``), not by its place in the combined list."""
+def _check_bodies_apart(listed, placed):
+    """Raise for bodies of the ``[[inclusions]]`` tables (``listed``) and of the ``[[dispersions]]`` tables (``placed``,
+    one list per table) that overlap, naming each by its table (``dispersions[1] body 17``), not by its place in the
+    combined list."""
     from .inclusions import InclusionSet
-    labels = [f"inclusions[{i}]" for i in range(listed)] + [
-        f"dispersions[{t}] body {k}" for t, placed in enumerate(bodies[1]) for k in range(len(placed))]
+    labels = [f"inclusions[{i}]" for i in range(len(listed))] + [
+        f"dispersions[{t}] body {k}" for t, table in enumerate(placed) for k in range(len(table))]
     try:
-        InclusionSet(bodies[0] + [body for placed in bodies[1] for body in placed])
+        InclusionSet(listed + [body for table in placed for body in table])
     except InclusionError as exc:
         raise InclusionError(re.sub(r"inclusions\[(\d+)\]", lambda m: labels[int(m.group(1))], str(exc))) from exc
 
@@ -546,7 +547,7 @@ def parse(data, source="<scenario>", *, folder=None, memory=None):
         bodies = inclusions_from_tables(data["inclusions"]) if "inclusions" in data else None
         if "dispersions" in data:
             placed = _dispersion_tables(data["dispersions"])
-            _check_bodies_apart((list(bodies or []), placed), len(bodies or []))
+            _check_bodies_apart(list(bodies or []), placed)
             bodies = list(bodies or []) + [body for table in placed for body in table]
         if memory is not None:
             _check_memory(grid, material, bodies, options, memory)

@@ -43,8 +43,8 @@ USE_MEMORY = 0.98
 #: [bytes]: a large box restarts sooner (a 128^3 box's basis, 16 vectors of 53 MB, was a quarter of its 3.3 GiB).
 GMRES_BYTES = 384 * 2**20
 
-#: Memory the directions' strains on the whole box may take [bytes]: a larger box computes its solution's strain
-#: by one more product a restart instead of keeping each direction's.
+#: Memory the directions' strains on the whole box may take [bytes]: a larger box carries its residual by the
+#: Arnoldi relation and computes its solution's strain by one more product at the end instead.
 IMAGES_BYTES = 768 * 2**20
 
 #: Memory the Fourier preconditioner's per-wavenumber matrices may take [bytes] (else each cuboid is solved alone).

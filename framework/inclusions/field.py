@@ -146,7 +146,7 @@ class InclusionProblem:
         stays the staircase's either way; :attr:`fraction` is each cuboid's share of a body.
     recycle : bool
         Keep the Krylov directions of each solve for the next ones (a run's sequence of solves); False for
-        one solve (:func:`solve_inclusions`), which then spends nothing on keeping them.
+        one solve (:func:`solve_inclusions`), which keeps them across its restarts only.
     """
 
     def __init__(self, grid, matrix, inclusions, margin=None, travel=None, geometry="staircase", recycle=True):
