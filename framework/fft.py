@@ -9,9 +9,21 @@ cores: 30 ms instead of 0.4 ms for a 512^2 transform), which is the normal
 state of a parameter sweep — ``auto`` is for a dedicated machine; without pyFFTW (or after ``set_backend("scipy")``) the same
 calls go to :mod:`scipy.fft` with ``workers`` = all cores. The two paths give
 the same numbers to rounding.
+
+FFTW's wisdom (the plans it measured) is kept between processes in one file,
+``FRAMEWORK_FFT_WISDOM`` (default ``$XDG_CACHE_HOME/viscocontact/fftw-wisdom``,
+else ``~/.cache/...``; ``off`` keeps none): read before the process's first
+plan, written back at exit when the process planned a transform the file did not
+hold. A process then starts as fast as a warm one (the first transient roll of a
+process planned its box shapes for 0.7 s of 2 s). The wisdom says which algorithm
+FFTW runs, not what it computes: the transforms agree to rounding whichever plan
+runs; a file measured on another machine gives plans that may be slower, never
+other numbers. An unreadable or damaged file is ignored (and replaced at exit).
 """
+import atexit
 import contextlib
 import os
+import tempfile
 
 import numpy as np
 import scipy.fft
@@ -53,6 +65,62 @@ if os.environ.get("FRAMEWORK_FFT_BACKEND") in ("scipy", "pyfftw") and (pyfftw is
                                                                      or os.environ["FRAMEWORK_FFT_BACKEND"] == "scipy"):
     _backend = os.environ["FRAMEWORK_FFT_BACKEND"]
 _plans = {}
+
+
+def wisdom_path(value):
+    """The wisdom file for a ``FRAMEWORK_FFT_WISDOM`` value: unset or empty -> the user's cache folder,
+    ``off`` (or ``0``, ``none``, ``false``) -> None (no file), else the path given."""
+    if value is None or value.strip() == "":
+        cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        return os.path.join(cache, "viscocontact", "fftw-wisdom")
+    if value.strip().lower() in ("off", "0", "none", "false"):
+        return None
+    return os.path.abspath(os.path.expanduser(value.strip()))
+
+
+class _Wisdom:
+    """FFTW's wisdom read from its file before the first plan and written back at exit when it grew."""
+
+    def __init__(self, path):
+        self.path, self.loaded, self.known = path, False, None
+
+    def load(self):
+        """Read the file once (before the process's first plan); a missing or damaged one is left for exit."""
+        if self.loaded or pyfftw is None or self.path is None:
+            return
+        self.loaded = True
+        try:
+            with open(self.path, "rb") as handle:
+                pyfftw.import_wisdom((handle.read(), b"", b""))
+        except (OSError, ValueError, TypeError):
+            pass
+        self.known = pyfftw.export_wisdom()[0]
+        atexit.register(self.save)
+
+    def save(self):
+        """Write the wisdom back (atomically, umask permissions) if this process added to it; never raises."""
+        temporary = None
+        try:
+            wisdom = pyfftw.export_wisdom()[0]
+            if wisdom == self.known:
+                return
+            folder = os.path.dirname(self.path)
+            os.makedirs(folder, exist_ok=True)
+            handle, temporary = tempfile.mkstemp(dir=folder, prefix=".fftw-wisdom-")
+            with os.fdopen(handle, "wb") as out:
+                out.write(wisdom)
+            mask = os.umask(0)
+            os.umask(mask)
+            os.chmod(temporary, 0o666 & ~mask)
+            os.replace(temporary, self.path)
+            self.known = wisdom
+        except OSError:     # a read-only or full disk costs the next process its planning, nothing else
+            if temporary is not None:
+                with contextlib.suppress(OSError):
+                    os.unlink(temporary)
+
+
+WISDOM = _Wisdom(wisdom_path(os.environ.get("FRAMEWORK_FFT_WISDOM")))
 
 
 def available_backends():
@@ -97,6 +165,7 @@ def _plan(kind, shape, dims=2):
     key = (kind, shape, THREADS, dims)
     plan = _plans.get(key)
     if plan is None:
+        WISDOM.load()
         axes = tuple(range(-dims, 0))
         # Measuring plans pays off for the many small 2-D transforms of a contact solve; a 3-D
         # transform of an eigenstrain box runs a few hundred times and would wait seconds for it.
@@ -190,6 +259,7 @@ class RealFFTPair:
         spectral = self.shape[:-1] + (self.shape[-1] // 2 + 1,)
         self.normalisation = 1.0 / (self.shape[-1] * self.shape[-2]) if _backend == "pyfftw" else 1.0
         if _backend == "pyfftw":
+            WISDOM.load()
             self.real_in = pyfftw.zeros_aligned(self.shape, dtype="float64")
             self.spectrum = pyfftw.zeros_aligned(spectral, dtype="complex128")
             self.real_out = pyfftw.zeros_aligned(self.shape, dtype="float64")
@@ -259,6 +329,7 @@ class Transform:
         self.kind = "r2c" if real_in else ("c2r" if real_out else ("c2c-inverse" if inverse else "c2c"))
         self.backend = _backend
         if _backend == "pyfftw":
+            WISDOM.load()
             flags = [effort] + (["FFTW_DESTROY_INPUT"] if self.kind == "c2r" else [])
             saved = np.array(source, copy=True)     # planning with FFTW_MEASURE scribbles on the buffers
             direction = "FFTW_BACKWARD" if self.kind in ("c2r", "c2c-inverse") else "FFTW_FORWARD"
