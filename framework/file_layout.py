@@ -40,7 +40,11 @@ ROOT_ATTRIBUTES = {1: {"format", "framework_version", "configuration"},
                    2: {"format", "framework_version", "configuration", "checksum"},
                    3: {"format", "framework_version", "configuration", "checksum"},
                    4: {"format", "framework_version", "configuration", "manifest", "checksum"},
-                   5: {"format", "framework_version", "configuration", "manifest", "checksum"}}
+                   5: {"format", "framework_version", "configuration", "manifest", "checksum"},
+                   6: {"format", "framework_version", "configuration", "manifest", "checksum"}}
+#: The first format whose inhomogeneity fields lie on the inhomogeneities' cuboids, ``(steps, N, 6)`` (the box's
+#: cuboids :func:`framework.inclusions.field.body_cuboids` names); before it on their box, ``(steps, m1, m2, m3, 6)``.
+CUBOID_FIELDS = 6
 #: File attributes of a sweep's point (the point, the wall time of its run), allowed in every format: from format 5
 #: on written by :func:`framework.io.save` under the file's checksum; before, added after writing, outside it.
 ANNOTATIONS = frozenset({"sweep_point", "sweep_wall_time"})
@@ -248,7 +252,7 @@ def _count(value):
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def check_shapes(objects, configuration, fail):
+def check_shapes(objects, configuration, fail, format=CUBOID_FIELDS):
     """Every dataset's shape and dtype against the configuration's grid and the steps of ``series/time``."""
     n1, n2, layers = grid_shape(configuration, fail)
     time = objects["series/time"]["shape"]
@@ -260,7 +264,12 @@ def check_shapes(objects, configuration, fail):
     expected.update({"series/tilt": [steps, 2], "series/inclusion_start": [steps, 3]})
     expected.update({f"fields/{key}": [steps, n1, n2] for key in FIELDS})
     box = objects.get("fields/eigenstrain", {}).get("shape")
-    if box is not None:
+    if box is not None and format >= CUBOID_FIELDS:
+        if not (len(box) == 3 and box[0] == steps and box[2] == 6 and 0 < box[1] <= n1 * n2 * layers):
+            raise fail(f"dataset 'fields/eigenstrain' has shape {tuple(box)}; expected (steps, N, 6) with N at most "
+                       f"the {n1 * n2 * layers} cuboids of the grid ({why})")
+        expected["fields/inclusion_stress"] = expected[RELAXED] = box
+    elif box is not None:
         if not (len(box) == 5 and box[0] == steps and box[4] == 6 and 0 < box[1] <= n1 and 0 < box[2] <= n2
                 and 0 < box[3] <= layers):
             raise fail(f"dataset 'fields/eigenstrain' has shape {tuple(box)}; expected (steps, m1, m2, m3, 6) "

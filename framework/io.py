@@ -1,6 +1,6 @@
 """Results on disk: HDF5 files that hold everything, and the checkpoints of long runs.
 
-Layout, ``format = 5`` (the file attribute ``format``, an integer raised at
+Layout, ``format = 6`` (the file attribute ``format``, an integer raised at
 every change of layout): file attributes ``framework_version``, ``format``,
 ``configuration`` (JSON of :meth:`Result.configuration`), ``manifest`` (JSON:
 the file's structure, see :mod:`framework.file_layout`), the optional
@@ -14,8 +14,10 @@ without them); group ``series`` (one dataset per step series: ``index``,
 group ``fields`` (``pressure``, ``displacement``, ``gap``, each ``(steps, n1,
 n2)``, one gzip chunk per step); for a run with inhomogeneities also
 ``series/couplings``, ``series/inclusion_start`` and ``fields/eigenstrain``,
-``fields/inclusion_stress`` (each ``(steps, m1, m2, m3, 6)`` on the
-inhomogeneities' box, see :class:`~framework.result.StepRecord`; with a
+``fields/inclusion_stress`` (each ``(steps, N, 6)`` on the inhomogeneities'
+``N`` cuboids of their box, :func:`~framework.inclusions.field.body_cuboids`,
+see :class:`~framework.result.StepRecord`; formats 3 to 5 held them on the
+whole box, ``(steps, m1, m2, m3, 6)``, which reading cuts to those cuboids; with a
 viscoelastic matrix, optional, ``fields/relaxed_eigenstrain`` of that shape) with the
 inhomogeneities in the configuration (key ``inclusions``); and, in a
 checkpoint, group ``state`` (the time stepper's history and the next station,
@@ -89,8 +91,8 @@ from . import file_layout
 from .errors import FileError, FrameworkError, ParameterError, UncheckedFileWarning
 from .file_layout import FIELDS, INCLUSION_FIELDS, INCLUSION_SERIES, SERIES  # noqa: F401 (the layout's names)
 
-FORMAT = 5
-READABLE = (1, 2, 3, 4, 5)
+FORMAT = 6
+READABLE = (1, 2, 3, 4, 5, 6)
 #: The first format whose texts are fixed-length strings (none in HDF5's global heap) and whose checksum covers the
 #: annotations.
 FIXED_TEXTS = 5
@@ -432,7 +434,7 @@ class _Reader:
         if manifest is not None:    # first: it names what is missing and what is not the writer's
             file_layout.check_manifest(objects, manifest, self.fail)
         state_keys = file_layout.check_layout(objects, self.format, self.fail, self.forged)
-        file_layout.check_shapes(objects, configuration, self.fail)
+        file_layout.check_shapes(objects, configuration, self.fail, self.format)
         if self.format == 1:
             warnings.warn(UncheckedFileWarning(
                 f"{self.name}: {self.path!r} is of format 1, written before result files had checksums: its "
@@ -510,14 +512,22 @@ def check_records(records, grid, inclusions, options, *, path, name):
         return
     if not inclusions or not all(holding):
         raise fail("it holds eigenstrains, but its configuration has no inhomogeneities")
-    from .inclusions.field import layout
+    from .inclusions.field import body_cuboids, layout
     start, shape, _ = layout(grid, inclusions, options.inclusion_margin)
+    cells = body_cuboids(grid, inclusions, options.inclusion_margin, options.inclusion_geometry)
+    needed = (cells[0].size, 6)
     limits = (*grid.shape, grid.layers)
     for record in records:
-        if record.eigenstrain.shape != (*shape, 6) or record.inclusion_stress.shape != (*shape, 6) \
-                or (record.relaxed_eigenstrain is not None and record.relaxed_eigenstrain.shape != (*shape, 6)):
-            raise fail(f"step {record.index}: its eigenstrains have shape {record.eigenstrain.shape}; the "
-                       f"configuration's box around the inhomogeneities needs {(*shape, 6)}")
+        fields = ("eigenstrain", "inclusion_stress") + (("relaxed_eigenstrain",) if record.relaxed_eigenstrain
+                                                         is not None else ())
+        shapes = {np.shape(getattr(record, key)) for key in fields}
+        if shapes == {(*shape, 6)}:     # formats 3 to 5: on the whole box; the records keep the cuboids
+            for key in fields:
+                setattr(record, key, np.asarray(getattr(record, key))[cells])
+        elif shapes != {needed}:
+            raise fail(f"step {record.index}: its eigenstrains have shape {np.shape(record.eigenstrain)}; the "
+                       f"configuration's inhomogeneities need {needed} (their cuboids) or, in files before format "
+                       f"{file_layout.CUBOID_FIELDS}, {(*shape, 6)} (their box)")
         first = start if record.inclusion_start is None else record.inclusion_start
         if any(s < 0 or s + m > n for s, m, n in zip(first, shape, limits)):
             raise fail(f"step {record.index}: the inhomogeneities' box of {shape} cuboids from cuboid "

@@ -25,12 +25,12 @@ class StepRecord:
     residual: float
     success: bool
     tilt: tuple = (0.0, 0.0)
-    eigenstrain: np.ndarray = None        # (m1, m2, m3, 6) on the inhomogeneities' box, tensor shears
-    inclusion_stress: np.ndarray = None   # (m1, m2, m3, 6) total stress [Pa] on that box
+    eigenstrain: np.ndarray = None        # (N, 6) on the inhomogeneities' N cuboids of their box, tensor shears
+    inclusion_stress: np.ndarray = None   # (N, 6) total stress [Pa] on those cuboids
     couplings: int = 0                    # fixed-point iterations between contact and inhomogeneities
     inclusion_start: tuple = None         # first cuboid of that box on the grid (it moves when rolling)
     time_error: float = float("nan")      # estimated time-stepping error, relative (framework.time_error; NaN: unknown)
-    relaxed_eigenstrain: np.ndarray = None    # (m1, m2, m3, 6) e~ = R * de* [Pa] (viscoelastic matrix; else None)
+    relaxed_eigenstrain: np.ndarray = None    # (N, 6) e~ = R * de* [Pa] (viscoelastic matrix; else None)
 
 
 #: SI unit of each series of :meth:`Result.summary` (``summary.csv`` writes them in its header).
@@ -71,6 +71,7 @@ class Result:
         self.inclusions = inclusions
         self._inclusion_problem = inclusion_problem
         self._inclusion_layout = None
+        self._inclusion_cells = None
         self.version = __version__
         self.records = []
         self._stress_operator = None
@@ -282,9 +283,9 @@ class Result:
                 value = self._operator().apply(record.pressure)
             else:
                 position = step % len(self.records)
-                value = self._eigenstrain_field().apply(self._relaxed_eigenstrain(position),
+                value = self._eigenstrain_field().apply(self._box_field(self._relaxed_eigenstrain(position)),
                                                         start=self._inclusion_start(record), pressure=record.pressure)
-                value[self._inclusion_box(record)] = record.inclusion_stress
+                value[self._inclusion_box(record)][self._cells()] = record.inclusion_stress
             self._stress_cache = (record.index, value)
         return value
 
@@ -310,7 +311,8 @@ class Result:
         return starts
 
     def _relaxed_eigenstrain(self, position):
-        """``e~ = int R(t - s) de*(s)`` [Pa] on the box at record ``position``: ``E e*`` for an elastic matrix; for a
+        """``e~ = int R(t - s) de*(s)`` [Pa] on the inhomogeneities' cuboids (``(N, 6)``) at record ``position``:
+        ``E e*`` for an elastic matrix; for a
         viscoelastic one the run's own (recorded), else the relaxation recursion replayed over the records up to
         it (kept, so steps asked in order cost one update each)."""
         from .materials import Elastic
@@ -355,6 +357,24 @@ class Result:
             self._inclusion_layout = layout(self.grid, self.inclusions, self.options.inclusion_margin)
         return self._inclusion_layout
 
+    def _cells(self):
+        """The box's cuboids the records' inhomogeneity fields lie on (:func:`~framework.inclusions.field.body_cuboids`)."""
+        if self._inclusion_cells is None:
+            if self._inclusion_problem is not None:
+                self._inclusion_cells = self._inclusion_problem.problem.cells
+            else:
+                self._require_inclusions()
+                from .inclusions.field import body_cuboids
+                self._inclusion_cells = body_cuboids(self.grid, self.inclusions, self.options.inclusion_margin,
+                                                     self.options.inclusion_geometry)
+        return self._inclusion_cells
+
+    def _box_field(self, values):
+        """A box field ``(m1, m2, m3, 6)``, zero in the matrix, of a record's values ``(N, 6)`` on :meth:`_cells`."""
+        out = np.zeros((*self._layout()[1], 6))
+        out[self._cells()] = values
+        return out
+
     def _inclusion_start(self, record):
         return self._layout()[0] if record.inclusion_start is None else record.inclusion_start
 
@@ -370,7 +390,7 @@ class Result:
         record = self._record(step)
         if record.eigenstrain is None:
             raise ParameterError("this run has no inhomogeneities (Simulation(..., inclusions=None))")
-        return place(self.grid, record.eigenstrain, self._inclusion_start(record))
+        return place(self.grid, self._box_field(record.eigenstrain), self._inclusion_start(record))
 
     def inhomogeneity(self, step):
         """Indicator of the inhomogeneities on the cuboids, shape (n1, n2, layers): 0 matrix, k + 1 the k-th."""
@@ -429,7 +449,7 @@ class Result:
                                      "them depends on the history of their fields, kept on the cuboids only; read "
                                      "Result.stress(step) (cuboid centres) instead")
             strain = strain_from_stress(out, self.material.poisson, self.material.young)
-            out = self._inclusions_problem().stress_at(points, lambda _: strain, record.eigenstrain)
+            out = self._inclusions_problem().stress_at(points, lambda _: strain, self._box_field(record.eigenstrain))
         return out
 
     def configuration(self):

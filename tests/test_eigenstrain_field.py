@@ -56,6 +56,21 @@ def _box_cuboids(result, step):
     return record, box, result.inhomogeneity(step)[box] == 0
 
 
+def _bodies_mismatch(result, step, relaxed):
+    """The largest difference on the bodies' cuboids between the run's stress (recorded there) and the equivalent
+    homogeneous body's, ``S p + C_bar : (D[e~] - e~)`` from the whole-grid field of ``e~`` (``relaxed``, on the
+    cuboids), relative to the eigenstrains' stress there: the equivalent-inclusion condition, met to the solver's
+    tolerance."""
+    record, box, _ = _box_cuboids(result, step)
+    cells = result._cells()
+    whole = result._eigenstrain_field().apply(result._box_field(relaxed), start=result._inclusion_start(record),
+                                              pressure=record.pressure)
+    homogeneous = whole[box][cells] - stress_from_strain(relaxed, result.material.poisson)
+    contact = SubsurfaceStress(result.grid, result.material.poisson).apply(record.pressure)[box][cells]
+    scale = np.abs(record.inclusion_stress - contact).max()
+    return np.abs(homogeneous - record.inclusion_stress).max() / scale
+
+
 def test_result_stress_continuous_across_the_box_faces():
     sim = fw.Simulation(grid=SMALL, material=materials.Elastic(young=200e9, poisson=NU),
                         indenter=indenters.Sphere(radius=10e-3),
@@ -66,7 +81,8 @@ def test_result_stress_continuous_across_the_box_faces():
     contact = SubsurfaceStress(SMALL, NU).apply(record.pressure)
     field = stress - contact                                        # the eigenstrains' part on the grid
     eigen_scale = np.abs(field[box]).max()
-    assert np.abs(stress[box] - record.inclusion_stress).max() == 0.0     # the run's own box values
+    cells = result._cells()
+    assert np.array_equal(stress[box][cells], record.inclusion_stress)     # the run's own values on the bodies
     lo, hi = box[0].start, box[0].stop
     assert lo >= 2 and hi <= SMALL.shape[0] - 2
     rows, layers = box[1], box[2]
@@ -76,28 +92,21 @@ def test_result_stress_continuous_across_the_box_faces():
         line = [field[face + sign * k, rows, layers] for k in range(-1, 3)]  # from inside the box outwards
         jumps = [np.abs(b - a).max() for a, b in zip(line, line[1:])]       # the middle one crosses the face
         assert jumps[2] <= jumps[1] <= jumps[0]
-    # the box's matrix cuboids: the whole-grid field there equals the run's stress
-    whole = result._eigenstrain_field().apply(200e9 * record.eigenstrain, pressure=record.pressure)
-    assert np.abs((whole[box] - record.inclusion_stress)[matrix_cells]).max() <= 1e-12 * eigen_scale
+    # the box's matrix cuboids: the whole-grid field, as beyond the box; on the bodies it meets the run's stress
+    whole = result._eigenstrain_field().apply(result._box_field(200e9 * record.eigenstrain), pressure=record.pressure)
+    assert np.array_equal(whole[box][matrix_cells], stress[box][matrix_cells])
+    assert _bodies_mismatch(result, -1, 200e9 * record.eigenstrain) <= 1e-7    # measured 8.9e-10
 
 
 def _relaxation_mismatch(result):
-    """Per record, the largest difference in the box's matrix cuboids between the run's stress and the
-    whole-grid field of the replayed ``e~``, relative to the eigenstrains' stress there."""
-    out = []
-    for step in range(len(result)):
-        record, box, matrix_cells = _box_cuboids(result, step)
-        whole = result._eigenstrain_field().apply(result._relaxed_eigenstrain(step),
-                                                  start=result._inclusion_start(record), pressure=record.pressure)
-        contact = SubsurfaceStress(result.grid, result.material.poisson).apply(record.pressure)[box]
-        scale = np.abs(record.inclusion_stress - contact).max()
-        out.append(np.abs((whole[box] - record.inclusion_stress)[matrix_cells]).max() / scale)
-    return np.array(out)
+    """Per record, :func:`_bodies_mismatch` of the ``e~`` the result gives (carried by the run, or replayed)."""
+    return np.array([_bodies_mismatch(result, step, result._relaxed_eigenstrain(step)) for step in range(len(result))])
 
 
 def test_viscoelastic_rolling_field_is_the_runs():
     """Rolling over a distance records every step: the replayed relaxation is the run's own, to what the moving
-    box changes in its operator (the Boussinesq correction's traction cut at the grid's edges: 3e-6 here)."""
+    box changes in its operator (the Boussinesq correction's traction cut at the grid's edges: 0.9-2.1e-6 here, on the
+    bodies' cuboids, by the equivalent-inclusion condition)."""
     grid = fw.Grid(shape=(48, 24), size=(2.4e-3, 1.2e-3), depth=0.5e-3, layers=10)   # the rolling example's
     glass = inclusions.Ellipsoid(center=(0.4e-3, 0.0, 0.25e-3), semi_axes=(0.15e-3,) * 3,
                                  material=materials.Elastic(young=70e9, poisson=0.22))
@@ -107,7 +116,7 @@ def test_viscoelastic_rolling_field_is_the_runs():
                         inclusions=[glass])     # one step a cell after the first, each recorded
     result = sim.run()
     assert len({r.inclusion_start for r in result.records}) > 1     # the box moved
-    assert _relaxation_mismatch(result).max() <= 2e-5
+    assert _relaxation_mismatch(result).max() <= 2e-5        # measured 0.9-2.1e-6
     # neither the instantaneous nor the relaxed modulus times the eigenstrains is that field
     record = result.records[-1]
     relaxed = result._relaxed_eigenstrain(len(result) - 1)
@@ -117,7 +126,8 @@ def test_viscoelastic_rolling_field_is_the_runs():
 
 def test_viscoelastic_coarse_outputs_field_is_the_runs(tmp_path):
     """Steps the run took between the output times are not recorded, but e~ is carried by the run over every
-    step: the field is the run's own at the coarse outputs (1e-12), saved and read with the result; without
+    step: the field is the run's own at the coarse outputs (on the bodies' cuboids the equivalent homogeneous body's
+    stress meets the run's to the solver's tolerance, 2e-8), saved and read with the result; without
     the carried e~ (a record from before it), the replay over the records with e* linear between them is off
     by up to 5e-3 of the eigenstrains' stress here (measured 8e-4 .. 4.8e-3)."""
     matrix = materials.StandardLinearSolid(e_inf=100e9, e_1=100e9, tau=1.0, poisson=NU)
@@ -126,7 +136,7 @@ def test_viscoelastic_coarse_outputs_field_is_the_runs(tmp_path):
                         inclusions=[CARBIDE])
     result = sim.run()
     assert sim.steps_taken > len(result)                            # it took steps it did not record
-    assert _relaxation_mismatch(result).max() <= 1e-12
+    assert _relaxation_mismatch(result).max() <= 1e-7        # the solver's tolerance: measured 4e-9 .. 2e-8
     result.save(tmp_path / "r.h5")
     loaded = fw.load_result(tmp_path / "r.h5")
     for a, b in zip(loaded.records, result.records):
@@ -135,5 +145,6 @@ def test_viscoelastic_coarse_outputs_field_is_the_runs(tmp_path):
     for record in result.records:                                   # the replay, as a record without e~ gets
         record.relaxed_eigenstrain = None
     replayed = _relaxation_mismatch(result)
-    assert replayed[0] <= 1e-12                                     # the glassy start is exact
+    assert replayed[0] <= 1e-7                                      # the glassy start is exact (the solver's 2e-8)
     assert 1e-4 <= replayed.max() <= 1e-2
+

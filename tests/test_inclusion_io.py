@@ -46,7 +46,7 @@ def test_file_layout_and_older_formats(whole, tmp_path):
     h5py = pytest.importorskip("h5py")
     whole.save(tmp_path / "r.h5")
     with h5py.File(tmp_path / "r.h5", "r") as f:
-        assert f.attrs["format"] == io.FORMAT == 5
+        assert f.attrs["format"] == io.FORMAT == 6
         assert f["fields/eigenstrain"].shape == (3,) + whole.records[0].eigenstrain.shape
         assert f["fields/eigenstrain"].fletcher32 and f["fields/inclusion_stress"].fletcher32
         assert list(f["series/couplings"][()]) == [r.couplings for r in whole.records]

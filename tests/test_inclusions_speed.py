@@ -404,12 +404,11 @@ def test_pressure_stress_on_a_window_equals_the_whole_grids(case, monkeypatch):
 
 @pytest.mark.parametrize("path", ["static elastic, one body", "rolling viscoelastic, one body"])
 def test_a_large_boxs_coupling_keeps_its_iterates_on_the_bodies(path, monkeypatch):
-    """Iterates whose strains are kept on the bodies' cuboids only (a box too large for ANDERSON_BYTES) and the
-    converged strain on the box by one more product a step: the same pressure, eigenstrain and box stress as the
+    """Iterates whose strains are kept on the bodies' cuboids only (a box too large for ANDERSON_BYTES), and the
+    next step's start on an unmoved box by one product: the same pressure, eigenstrain and stress as the
     iterates kept on the whole box, both solved to a coupling tolerance of 1e-10, to 1e-7 of their scale (rounding
     of the combined strains against a fresh product steers a step one iteration apart at times; at the default 1e-8
-    they differ by up to 5e-6, within its inclusion tolerance 1e-7), and one product more a step than its
-    iterations need."""
+    they differ by up to 5e-6, within its inclusion tolerance 1e-7)."""
     from framework.inclusions import coupling
     schedule, matrix, bodies = PATHS[path]
     solve = coupling.ContactCoupling.solve
@@ -431,7 +430,10 @@ def test_a_large_boxs_coupling_keeps_its_iterates_on_the_bodies(path, monkeypatc
     monkeypatch.setattr(coupling, "ANDERSON_BYTES", 0)
     cells, cell_products, cell_steps = run()
     assert len(cell_steps) == len(steps) and max(abs(a - b) for a, b in zip(steps, cell_steps)) <= 1
-    assert cell_products - sum(cell_steps) == products - sum(steps) + len(steps)
+    # no product after the last iteration: the next step on an unmoved box computes its start's strain by one
+    # (measured: static 39 products for 42 iterations kept whole, 41 on the bodies; rolling 103 and 101 for 104, 102)
+    unmoved = len(steps) - 1 if path.startswith("static") else 0
+    assert cell_products - sum(cell_steps) == products - sum(steps) + unmoved
     for step in range(len(whole.times)):
         for name in ("pressure", "eigenstrain", "inclusion_stress"):
             a, b = getattr(whole.records[step], name), getattr(cells.records[step], name)

@@ -53,12 +53,12 @@ def test_not_a_result_file(tmp_path):
     h5py = pytest.importorskip("h5py")
     with h5py.File(tmp_path / "other.h5", "w") as f:
         f["x"] = np.arange(3.0)
-    with pytest.raises(errors.FileError, match=r"'.*other.h5' is not a result file of format 1, 2, 3, 4 or 5$"):
+    with pytest.raises(errors.FileError, match=r"'.*other.h5' is not a result file of format 1, 2, 3, 4, 5 or 6$"):
         fw.load_result(tmp_path / "other.h5")
     with h5py.File(tmp_path / "other.h5", "a") as f:
-        f.attrs["format"] = 6
+        f.attrs["format"] = 7
         f.create_group("series")
-    with pytest.raises(errors.FileError, match=r"format 1, 2, 3, 4 or 5 \(format 6: written by a newer framework\)"):
+    with pytest.raises(errors.FileError, match=r"format 1, 2, 3, 4, 5 or 6 \(format 7: written by a newer framework\)"):
         fw.load_result(tmp_path / "other.h5")
 
 

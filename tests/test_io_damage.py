@@ -92,10 +92,34 @@ def resign(path):
     rewrite_checksum(path)
 
 
-def to_format_4(path):
-    """Rewrite a file of format 5 as format 4 wrote it (framework/io.py at 4d07b09): the texts as variable-length
-    strings, in HDF5's global heap, and the checksum without the annotations (which stay, outside it)."""
+def box_field(result, step, key):
+    """A record's inhomogeneity field on its whole box, as formats 3 to 5 held it: the eigenstrains zero in the
+    matrix, the stress there what ``Result.stress`` gives (the field the run's box stress equalled to its tolerance)."""
+    record = result.records[step]
+    if key == "inclusion_stress":
+        return result.stress(step)[result._inclusion_box(record)]
+    return result._box_field(getattr(record, key))
+
+
+def to_box_fields(f, result):
+    """Rewrite the inhomogeneities' fields of an open file of ``result`` on their box (formats 3 to 5)."""
+    from framework.io import _dataset
+    for key in ("eigenstrain", "inclusion_stress", "relaxed_eigenstrain"):
+        if f"fields/{key}" in f:
+            data = np.array([box_field(result, k, key) for k in range(len(f[f"fields/{key}"]))])
+            del f[f"fields/{key}"]
+            _dataset(f["fields"], key, data, compression="gzip", compression_opts=1, shuffle=True,
+                     chunks=(1,) + data.shape[1:])
+
+
+def to_format_4(path, result):
+    """Rewrite a file of format 6 of ``result`` as format 4 wrote it (framework/io.py at 4d07b09): the texts as
+    variable-length strings, in HDF5's global heap, the checksum without the annotations (which stay, outside it)
+    and the inhomogeneities' fields on their box."""
+    from framework import file_layout
     with h5py.File(path, "a") as f:
+        to_box_fields(f, result)
+        set_text(f, "manifest", file_layout.manifest(file_layout.structure(f, refuse=AssertionError)))
         for key in ("framework_version", "configuration", "manifest", "sweep_point"):
             if key in f.attrs:
                 value = text(f.attrs[key])
@@ -120,7 +144,7 @@ def test_a_renamed_dataset_is_refused_not_dropped(copy):
         "in its manifest (the structure found differs from the one its manifest lists)")
     resign(path)   # a manifest of the renamed file: the format's own list of names refuses it
     with pytest.raises(errors.FileError, match=r"is damaged: it holds 'series/inclusion_stbrt', which no result "
-                                               r"file of format 5 has$"):
+                                               r"file of format 6 has$"):
         fw.load_result(path)
 
 
@@ -137,16 +161,16 @@ def test_a_flipped_bit_in_a_name_fails_hdf5s_header_checksum(copy):
 
 @pytest.mark.parametrize("edit, message", [
     (lambda f: f["series/time"].attrs.create("unit", "s"),
-     r"'series/time' has the attribute\(s\) 'unit', which no file of format 5 has"),
+     r"'series/time' has the attribute\(s\) 'unit', which no file of format 6 has"),
     (lambda f: f["series"].create_dataset("extra", data=np.zeros(3)),
-     r"it holds 'series/extra', which no result file of format 5 has"),
-    (lambda f: f.create_group("more"), r"it holds 'more', which no result file of format 5 has"),
+     r"it holds 'series/extra', which no result file of format 6 has"),
+    (lambda f: f.create_group("more"), r"it holds 'more', which no result file of format 6 has"),
     (lambda f: f["state/station"].attrs.modify("scalar", 2), r"'state/station' has the attribute 'scalar' = 2"),
     (lambda f: f.attrs.create("comment", "x"),
-     r"it has the file attribute\(s\) 'comment', which no file of format 5 has"),
+     r"it has the file attribute\(s\) 'comment', which no file of format 6 has"),
     (lambda f: f["fields"].create_dataset("relaxed_eigenstrain", data=np.zeros((len(f["series/time"]), 1, 1, 1, 6)),
                                           chunks=True, fletcher32=True),
-     r"dataset 'fields/relaxed_eigenstrain' has shape \(\d+, 1, 1, 1, 6\); expected \(\d+, \d+, \d+, \d+, 6\)"),
+     r"dataset 'fields/relaxed_eigenstrain' has shape \(\d+, 1, 1, 1, 6\); expected \(\d+, \d+, 6\)"),
 ])
 def test_what_no_format_writes_is_refused(copy, edit, message):
     path = copy("c.h5")
@@ -187,7 +211,7 @@ def test_a_sweeps_annotations_are_written_under_the_checksum(files, copy, tmp_pa
                                                r"'sweep_point' fail their checksum$"):
         fw.load_result(path)
     path = copy("r.h5")
-    to_format_4(path)
+    to_format_4(path, result)
     with h5py.File(path, "a") as f:
         f.attrs["sweep_point"] = json.dumps({"load": 20.0})
         f.attrs["sweep_wall_time"] = 1.5
@@ -407,9 +431,12 @@ def write_format_3(result, path, state=None):
         for key in io.SERIES + io.INCLUSION_SERIES:
             _dataset(series, key, np.array([getattr(r, key) for r in result.records],
                                            dtype=float if key == "tilt" else None))
-        for key in io.FIELDS + io.INCLUSION_FIELDS:
+        for key in io.FIELDS:
             _dataset(fields, key, np.array([getattr(r, key) for r in result.records]), compression="gzip",
                      chunks=(1,) + np.shape(getattr(result.records[0], key)))
+        for key in io.INCLUSION_FIELDS:     # on their box
+            data = np.array([box_field(result, k, key) for k in range(len(result))])
+            _dataset(fields, key, data, compression="gzip", chunks=(1,) + data.shape[1:])
         if state is not None:
             group = f.create_group("state")
             group.attrs["keys"] = list(state)
@@ -443,12 +470,13 @@ def test_format_4_files_load_and_keep_their_checks(files, copy):
     """Format 4 wrote its texts as variable-length strings and its checksum without the annotations."""
     sim, result, folder = files
     path = copy("c.h5")
-    to_format_4(path)
+    to_format_4(path, result)
     with h5py.File(path, "r") as f:
         assert f.attrs.get_id("configuration").get_type().is_variable_str() and b"GCOL" in path.read_bytes()
     _, records, state = io.read(path, name="resume")
     _, _, original = io.read(folder / "c.h5", name="resume")
-    assert same_records(records, result.records) and list(state) == list(original)
+    assert records[0].eigenstrain.shape == (*result._layout()[1], 6)     # read as written: on the box
+    assert same_records(fw.load_result(path).records, result.records) and list(state) == list(original)
     assert same_records(sim.run(resume=path).records, result.records)
     with h5py.File(path, "a") as f:
         f.move("series/inclusion_start", "series/inclusion_stbrt")
@@ -456,7 +484,7 @@ def test_format_4_files_load_and_keep_their_checks(files, copy):
                                                r"'series/inclusion_stbrt', which is not in its manifest"):
         io.read(path)
     path = copy("r.h5")
-    to_format_4(path)
+    to_format_4(path, result)
     with h5py.File(path, "a") as f:
         f.attrs["format"] = 5     # format 5 reads no variable-length string: not even to check it
     with pytest.raises(errors.FileError, match=r"^path: .* is damaged: attribute 'framework_version' of '/' is a "
@@ -507,8 +535,9 @@ def test_fields_and_boxes_that_do_not_fit_are_refused(copy):
         configuration["inclusions"]["inclusions"][0]["semi_axes"] = [0.15e-3] * 3
         set_text(f, "configuration", json.dumps(configuration))
     rewrite_checksum(path)
-    with pytest.raises(errors.FileError, match=r"step 0: its eigenstrains have shape \(\d+, \d+, \d+, 6\); the "
-                                               r"configuration's box around the inhomogeneities needs"):
+    with pytest.raises(errors.FileError, match=r"step 0: its eigenstrains have shape \(\d+, 6\); the "
+                                               r"configuration's inhomogeneities need \(\d+, 6\) \(their cuboids\) or, "
+                                               r"in files before format 6, \(\d+, \d+, \d+, 6\) \(their box\)$"):
         fw.load_result(path)
     path = copy("c.h5")
     with h5py.File(path, "a") as f:

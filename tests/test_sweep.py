@@ -258,7 +258,7 @@ def test_a_point_file_holds_its_point_and_wall_time_under_its_checksum(tmp_path)
     point = {"indenter.radius": 5e-3}
     row = sw.run_point(sw.ScenarioBuilder(BASE), point, str(tmp_path), sw.point_file(0, point))
     with h5py.File(row["file"], "r") as f:
-        assert f.attrs["sweep_point"] == b'{"indenter.radius": 0.005}' and f.attrs["format"] == 5
+        assert f.attrs["sweep_point"] == b'{"indenter.radius": 0.005}' and f.attrs["format"] == 6
         assert not f.attrs.get_id("sweep_point").get_type().is_variable_str()
         assert f.attrs["sweep_wall_time"] == row["wall_time"] > 0
     assert sw.read_point(row["file"])["wall_time"] == row["wall_time"]

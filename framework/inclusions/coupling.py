@@ -15,8 +15,11 @@ Both hereditary integrals are carried by Prony recursions (:class:`framework.his
 or the full sum with ``options={"history": "hereditary"}``) with the fields ``S p`` and
 ``C_bar (D[e*] - e*)`` linear within a step: each step is an elastic equivalent-inclusion problem
 with the matrix modulus ``R_eff`` (the mean of ``R`` over the step) and a known history stress,
-``(C_I - R_eff C_bar) D[e*] + R_eff C_bar e* = S p + s_hist - C_I e0``. Memory per step: one
-``(m1, m2, m3, 6)`` field per creep term and per relaxation term, plus the last two fields.
+``(C_I - R_eff C_bar) D[e*] + R_eff C_bar e* = S p + s_hist - C_I e0``. The system reads both
+histories on the inhomogeneities' cuboids only, so they live there: memory per step, one ``(N, 6)``
+field per creep term and per relaxation term, plus the last two fields (``N`` the inhomogeneities'
+cuboids). The matrix's stress elsewhere in the box is the eigenstrains' field, which
+:meth:`framework.result.Result.stress` computes from ``e~`` below, as it does beyond the box.
 
 One more relaxation recursion carries ``e~ = R * de*``, the eigenstrains weighted by the relaxation
 modulus over their history: the eigenstrains' stress beyond the box is ``C_bar : D[e~]``
@@ -50,11 +53,12 @@ def matrix_series(matrix):
 class CoupledStep:
     """One converged step: the contact solution, the eigenstrain fields and the fixed-point count.
 
-    ``eigenstrain`` and ``stress`` are box fields ``(m1, m2, m3, 6)`` (tensor shears; the total
-    stress [Pa]); ``displacement`` the eigenstrains' surface displacement the contact saw;
-    ``contact_stress`` and ``field`` what the matrix's histories remember of the step; ``relaxed``
-    ``e~ = R * de*`` [Pa] (the eigenstrains under the matrix's relaxation modulus, a box field), None
-    for an elastic matrix (there ``E e*``) or a run resumed from a checkpoint that lacked its history.
+    ``eigenstrain`` and ``stress`` are ``(N, 6)`` values on the inhomogeneities' cuboids (the
+    problem's ``cells``, tensor shears; the total stress [Pa], ``C_I : strain``); ``displacement``
+    the eigenstrains' surface displacement the contact saw; ``contact_stress`` and ``field`` (on the
+    same cuboids) what the matrix's histories remember of the step; ``relaxed`` ``e~ = R * de*`` [Pa]
+    (the eigenstrains under the matrix's relaxation modulus), None for an elastic matrix (there
+    ``E e*``) or a run resumed from a checkpoint that lacked its history.
     """
 
     contact: object
@@ -101,16 +105,17 @@ class ContactCoupling:
         self.tolerance, self.inclusion_tolerance, self.max_couplings = tolerance, inclusion_tolerance, max_couplings
         integrator = PronyRecursion if history == "recursive" else HereditarySum
         creep, relaxation = matrix_series(problem.matrix)
-        shape, cells = (*problem.shape, 6), (problem.problem.material.size, 6)
-        # the contact's strain is only needed on the inhomogeneities' cuboids, and e~ = R * de* (for the eigenstrains'
-        # stress beyond the box, only where R has memory) is zero outside them: their histories live there (a
-        # dispersion at 10 % fills a tenth of its box); the matrix's stress is needed on the whole box
-        self._creep, self._relaxation = integrator(creep, cells), integrator(relaxation, shape)
+        cells = (problem.problem.material.size, 6)
+        # the system reads the contact's strain and the matrix's stress on the inhomogeneities' cuboids only, and
+        # e~ = R * de* (the eigenstrains' stress in the matrix, only where R has memory) is zero outside them: their
+        # histories live there (a dispersion at 10 % fills a tenth of its box)
+        self._creep, self._relaxation = integrator(creep, cells), integrator(relaxation, cells)
         self._weighted = integrator(relaxation, cells) if relaxation.terms else None
-        self.eigenstrain = None     # the last step's, to start the next one from
+        self.eigenstrain = None     # the last step's (N, 6) on the cuboids, to start the next one from
         self.disturbance = None     # D[eigenstrain], known from its solve: saves a product per solve
         self.displacement = 0.0
         self.past = []              # (time, Mandel values) of the last accepted steps: the moved step's predictor
+        self._moved = False         # the box moved since the last step (its start is then predicted)
 
     def move(self, cells, periodic=(False, False)):
         """The material moved by ``cells`` whole cells (rolling): the inhomogeneities, their box and the
@@ -118,6 +123,7 @@ class ContactCoupling:
         if any(cells):
             self.problem.move(cells)
             self.disturbance = None     # the surface correction's patch edge sees the box elsewhere
+            self._moved = True
             if np.ndim(self.displacement):
                 self.displacement = translate(self.displacement, cells, periodic)
 
@@ -132,38 +138,34 @@ class ContactCoupling:
 
     def commit(self, step):
         """Remember the converged step (its contact stress and equivalent-body field)."""
-        inner = self.problem.problem
-        self._creep.commit(self._time, step.contact_stress[inner.cells])
+        self._creep.commit(self._time, step.contact_stress)
         self._relaxation.commit(self._time, step.field)
         if self._weighted is not None:
-            self._weighted.commit(self._time, step.eigenstrain[inner.cells])
-        self.past = (self.past + [(self._time, step.eigenstrain[inner.cells] * MANDEL)])[-PREDICTOR_STEPS:]
+            self._weighted.commit(self._time, step.eigenstrain)
+        self.past = (self.past + [(self._time, step.eigenstrain * MANDEL)])[-PREDICTOR_STEPS:]
 
     def _right(self, pressure):
         """The equivalent-inclusion system's right-hand side (Mandel, ``(N, 6)``) for the contact pressure, with
-        the contact's stress at the box, the matrix's stress and the strain without inhomogeneities (on the
-        inhomogeneities' cuboids, ``(N, 6)``, tensor shears)."""
+        the contact's stress and the strain without inhomogeneities, both on the inhomogeneities' cuboids
+        (``(N, 6)``, tensor shears)."""
         problem, nu = self.problem, self.problem.matrix.poisson
         inner = problem.problem
-        cells = inner.cells
-        contact_stress = problem.operator.pressure_stress(pressure)
-        creep = self._compliance * contact_stress[cells]
+        contact_stress = problem.operator.pressure_stress(pressure)[inner.cells]
+        creep = self._compliance * contact_stress
         if self._creep_history is not None:
             creep = creep + self._creep_history
         strain0 = strain_from_stress(creep, nu)                   # e0 (unit-modulus compliance times J)
         matrix_stress = contact_stress if self._relaxation_history is None \
             else contact_stress + self._relaxation_history
-        right = (matrix_stress[cells] * MANDEL
-                 - inner.per_material(inner.stiffness, strain0 * MANDEL))
-        return right, contact_stress, matrix_stress, strain0
+        right = matrix_stress * MANDEL - inner.per_material(inner.stiffness, strain0 * MANDEL)
+        return right, contact_stress, strain0
 
-    def _outputs(self, eigenstrain, disturbance, matrix_stress, strain0):
-        """The total stress on the box and the field ``C_bar (D[e*] - e*)`` the relaxation remembers."""
+    def _outputs(self, eigenstrain, strain, strain0):
+        """The total stress ``C_I : (e0 + D[e*])`` and the field ``C_bar (D[e*] - e*)`` the relaxation remembers,
+        from the eigenstrain and its strain ``D[e*]`` on the inhomogeneities' cuboids (``(N, 6)``, tensor shears)."""
         inner, nu = self.problem.problem, self.problem.matrix.poisson
-        field = stress_from_strain(disturbance - eigenstrain, nu)   # C_bar (D[e*] - e*)
-        stress = matrix_stress + self._modulus * field
-        strain = strain0 + disturbance[inner.cells]
-        stress[inner.cells] = inner.per_material(inner.stiffness, strain * MANDEL) / MANDEL
+        field = stress_from_strain(strain - eigenstrain, nu)      # C_bar (D[e*] - e*)
+        stress = inner.per_material(inner.stiffness, (strain0 + strain) * MANDEL) / MANDEL
         return stress, field
 
     def solve(self, solve_contact):
@@ -192,16 +194,18 @@ class ContactCoupling:
             values, disturbance = np.zeros((inner.material.size, 6)), np.zeros(shape)
             displacement = np.zeros(problem.grid.shape)
         else:
-            values = np.asarray(self.eigenstrain)[inner.cells] * MANDEL
+            values = self.eigenstrain * MANDEL
             disturbance, displacement = self.disturbance, self.displacement
-            if disturbance is None:     # the box moved: both anew (the displacement was only translated),
-                values = predicted(self.past, self._time, values)    # for the step's predicted eigenstrain
+            if disturbance is None:     # the box moved, or is too large to keep it: both anew (the displacement
+                if self._moved:         # was only translated), for a moved step's predicted eigenstrain
+                    values = predicted(self.past, self._time, values)
                 disturbance, displacement = operator.strain(inner.box_field(values), displacement=True)
                 inner.products += 1
+        self._moved = False
         deflation = inner.recycled.preconditioner(inner._image, inner.young)
-        # A large box's iterates keep their strain on the inhomogeneities' cuboids only (Mandel values), and the
-        # converged step's strain on the box is one more product: the history's box fields were most of the memory
-        # of a rolling run over a dispersion (2.6 M box cuboids: 21 x 127 MB)
+        # A large box's iterates keep their strain on the inhomogeneities' cuboids only (Mandel values), and the next
+        # step computes its start's strain on the box by one product: the history's box fields were most of the
+        # memory of a rolling run over a dispersion (2.6 M box cuboids: 21 x 127 MB)
         whole = (ANDERSON_DEPTH + 1) * 8 * int(np.prod(shape)) <= ANDERSON_BYTES
         if not whole:
             disturbance = disturbance[inner.cells] * MANDEL
@@ -210,7 +214,7 @@ class ContactCoupling:
         previous = None
         for count in range(1, self.max_couplings + 1):
             contact = solve_contact(displacement)
-            right, contact_stress, matrix_stress, strain0 = self._right(contact.pressure)
+            right, contact_stress, strain0 = self._right(contact.pressure)
             residual = right - (inner._apply(values, disturbance) if whole
                                 else inner._image(values, disturbance).reshape(-1, 6))
             scale = max(np.abs(contact.displacement).max(), np.abs(displacement).max(), 1e-300)
@@ -219,16 +223,14 @@ class ContactCoupling:
             relative = float(np.linalg.norm(residual) / size) if size > 0 else 0.0
             if relative <= self.inclusion_tolerance and (change <= self.tolerance or relative == 0.0):
                 inner.recycled.add(directions, strains, inner._image, inner.young)
-                eigenstrain = inner.box_field(values)
-                if not whole:
-                    disturbance = operator.strain(eigenstrain)
-                    inner.products += 1
-                stress, field = self._outputs(eigenstrain, disturbance, matrix_stress, strain0)
-                self.eigenstrain, self.disturbance, self.displacement = eigenstrain, disturbance, displacement
+                eigenstrain = values / MANDEL
+                strain = disturbance[inner.cells] if whole else disturbance / MANDEL
+                stress, field = self._outputs(eigenstrain, strain, strain0)
+                self.eigenstrain, self.displacement = eigenstrain, displacement
+                self.disturbance = disturbance if whole else None
                 relaxed = None
                 if self._weighted is not None and self._weighted_history is not None:
-                    relaxed = self._modulus * eigenstrain
-                    relaxed[inner.cells] += self._weighted_history
+                    relaxed = self._modulus * eigenstrain + self._weighted_history
                 return CoupledStep(contact, eigenstrain, stress, displacement, count, change, contact_stress, field,
                                    relaxed)
             correction = inner._precondition(residual.ravel(), deflation)
@@ -268,7 +270,10 @@ class ContactCoupling:
 
     def restore(self, snapshot):
         """Continue from :meth:`snapshot`'s arrays."""
-        self.eigenstrain = snapshot["inclusion_eigenstrain"]
+        inner = self.problem.problem
+        self.eigenstrain = np.asarray(snapshot["inclusion_eigenstrain"])
+        if self.eigenstrain.ndim == 4:      # written when it was kept on the whole box: its cuboids
+            self.eigenstrain = self.eigenstrain[inner.cells]
         self.disturbance = snapshot.get("inclusion_disturbance")
         self.past = [(float(t), np.asarray(values)) for t, values in
                      zip(snapshot.get("inclusion_past_times", ()), snapshot.get("inclusion_past_values", ()))]
@@ -277,7 +282,7 @@ class ContactCoupling:
             self.problem.move(tuple(int(c) for c in start[:2] - np.array(self.problem.start[:2])))
         self.displacement = snapshot.get("inclusion_displacement")
         if self.displacement is None or self.disturbance is None:
-            self.displacement = self.problem.operator.surface_displacement(self.eigenstrain)
+            self.displacement = self.problem.operator.surface_displacement(inner.box_field(self.eigenstrain * MANDEL))
         recycled = self.problem.problem.recycled
         recycled.clear()
         if "inclusion_recycled_directions" in snapshot:
@@ -289,11 +294,10 @@ class ContactCoupling:
             if name == "weighted" and not kept:     # a checkpoint written before e~ was carried: not known
                 self._weighted = None
                 continue
-            if name != "relaxation":        # written when these histories lived on the whole box: their cuboids
-                box, inner = (*self.problem.shape, 6), self.problem.problem
-                kept = {key: value[(slice(None),) * (np.ndim(value) - 4) + inner.cells]
-                        if np.ndim(value) >= 4 and np.shape(value)[-4:] == box else value
-                        for key, value in kept.items()}
+            box = (*self.problem.shape, 6)  # written when these histories lived on the whole box: their cuboids
+            kept = {key: value[(slice(None),) * (np.ndim(value) - 4) + inner.cells]
+                    if np.ndim(value) >= 4 and np.shape(value)[-4:] == box else value
+                    for key, value in kept.items()}
             integrator.restore(kept)
 
     def _integrators(self):

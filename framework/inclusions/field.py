@@ -76,6 +76,21 @@ def layout(grid, inclusions, margin=None):
     return start, shape, inclusions.indicator(*box_coordinates(grid, start, shape))
 
 
+def body_cuboids(grid, inclusions, margin=None, geometry="staircase"):
+    """The box's cuboids the equivalent-inclusion system solves on (``np.nonzero`` of its indicator, C order):
+    those whose centre a body contains, and with ``geometry="laminate"`` also those a body's boundary cuts.
+
+    A run's records keep their eigenstrains and stresses on these cuboids only (``(N, 6)``), the
+    cuboids of :class:`InclusionProblem`'s ``problem.cells``, found without building its operators.
+    """
+    start, shape, indicator = layout(grid, inclusions, margin)
+    if geometry != "laminate":
+        return np.nonzero(indicator)
+    fraction, owner, _ = inclusions.fractions(*box_coordinates(grid, start, shape),
+                                              (*grid.spacing, grid.layer_thickness))
+    return np.nonzero((owner > 0) & (fraction > 0.0))
+
+
 def place(grid, field, start):
     """A box field ``(m1, m2, m3, ...)`` whose first cuboid is ``start``, in a zero grid field ``(n1, n2, layers, ...)``."""
     out = np.zeros((*grid.shape, grid.layers, *field.shape[3:]), dtype=field.dtype)
