@@ -257,11 +257,13 @@ class Result:
         """Stress [Pa] at the layer centres, shape (n1, n2, layers, 6), Voigt xx yy zz yz xz xy.
 
         The contact's stress (Love's coefficients) plus, with inhomogeneities, their eigenstrains'
-        field on the whole grid: in the box around them (the operators' box) the stress the run
-        computed, beyond it :class:`~framework.operators.eigenstrain_field.EigenstrainField` of the
-        step's eigenstrains (the same kernels, so the field continues across the box's faces). Its
-        operator is built at the first call and kept; each step costs one product (1.0-1.3 s and
-        about 0.3 GiB on a 128 x 128 x 40 grid around a 30 x 31 x 30 box).
+        field on the whole grid: on the bodies' cuboids the stress the run computed (recorded there),
+        elsewhere, in their box as beyond it,
+        :class:`~framework.operators.eigenstrain_field.EigenstrainField` of the step's eigenstrains
+        (the same kernels as the run's box operator; on the bodies the equivalent homogeneous body's
+        stress from it meets the run's to the solver's tolerance). Its operator is built at the first
+        call and kept; each step costs one product (1.0-1.3 s and about 0.3 GiB on a 128 x 128 x 40
+        grid around a 30 x 31 x 30 box).
 
         With a viscoelastic matrix (constant Poisson ratio) the strain an eigenstrain causes does
         not depend on the modulus, but the matrix's stress does, through its history: beyond the
