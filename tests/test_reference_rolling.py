@@ -28,7 +28,7 @@ from framework import materials
 from framework.errors import ConvergenceError, GridTooSmallError, ParameterError
 from framework.reference.boussinesq import rectangle_displacement_by_quadrature
 from framework.reference.hertz import HertzCylinder, HertzSphere
-from framework.reference.rolling import (_filtered, _love_cell, _plane_strain_cell, _solve_contact,
+from framework.reference.rolling import (_filtered, _love_cell, _plane_strain_cell, solve_dense_contact,
                                          steady_line_contact, steady_sphere)
 
 RADIUS = 0.01                 # [m]
@@ -307,8 +307,8 @@ def test_unconverged_active_set_raises():
     matrix = _plane_strain_cell(x[:, None] - x[None, :], spacing / 2, A_LINE) / RELAXED.contact_modulus
     start = np.abs(x) < 0.2 * A_LINE
     with pytest.raises(ConvergenceError, match=r"did not satisfy complementarity: residual .* after 1 iterations"):
-        _solve_contact(matrix, x**2 / (2 * RADIUS), spacing, LOAD_PER_LENGTH, start, max_iterations=1)
-    pressure, *_ = _solve_contact(matrix, x**2 / (2 * RADIUS), spacing, LOAD_PER_LENGTH, start)
+        solve_dense_contact(matrix, x**2 / (2 * RADIUS), spacing, LOAD_PER_LENGTH, start, max_iterations=1)
+    pressure, *_ = solve_dense_contact(matrix, x**2 / (2 * RADIUS), spacing, LOAD_PER_LENGTH, start)
     assert pressure.sum() * spacing == pytest.approx(LOAD_PER_LENGTH, rel=1e-12)
 
 

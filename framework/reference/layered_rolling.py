@@ -90,7 +90,7 @@ def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_s
     -------
     LayeredSteadySphere
     """
-    from .rolling import _solve_contact
+    from .rolling import solve_dense_contact
 
     radius = check_positive(radius, name="radius", unit="m")
     load = check_positive(load, name="load", unit="N")
@@ -126,7 +126,7 @@ def layered_steady_sphere(radius, load, velocity, h, layer, substrate, *, half_s
     heights = (x1 ** 2 + x2 ** 2) / (2.0 * radius)
     area = spacing ** 2
     start = np.hypot(x1, x2).ravel() < half_size / 2.0
-    pressure, approach, _, _, _ = _solve_contact(matrix, heights.ravel(), area, load, start)
+    pressure, approach, _, _, _ = solve_dense_contact(matrix, heights.ravel(), area, load, start)
     pressure = pressure.reshape(cells, cells)
     contact = pressure > 0
     if contact[0].any() or contact[-1].any() or contact[:, 0].any() or contact[:, -1].any():

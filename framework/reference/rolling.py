@@ -304,7 +304,7 @@ def _kernel_row(cell_kernel, offsets1, compliance, velocity, edge):
 
 # --------------------------------------------------------------------------- complementarity
 
-def _solve_contact(matrix, heights, cell_area, load, start, *, max_iterations=200, tolerance=1e-9):
+def solve_dense_contact(matrix, heights, cell_area, load, start, *, max_iterations=200, tolerance=1e-9):
     """Exact solution of ``g = h - delta + A p >= 0, p >= 0, p g = 0, sum p dA = W``.
 
     Primal-dual active set (every cell with a negative pressure leaves the
@@ -557,8 +557,8 @@ def steady_line_contact(radius, load_per_length, velocity, material, half_length
     matrix = row[index[:, None] - index[None, :] + cells - 1]
     # start from the relaxed Hertz contact: the steady one lies inside it but for a shift of its leading edge
     relaxed = np.sqrt(4.0 * load * radius * (compliance[0] + compliance[1].sum()) / np.pi)
-    pressure, approach, gap, iterations, residual = _solve_contact(matrix, x**2 / (2.0 * radius), spacing, load,
-                                                                   np.abs(x) < relaxed)
+    pressure, approach, gap, iterations, residual = solve_dense_contact(matrix, x**2 / (2.0 * radius), spacing,
+                                                                        load, np.abs(x) < relaxed)
     _check_edges(pressure > 0.0, name="half_length", size=half_length)
 
     return SteadyLineContact(x=x, pressure=pressure, gap=gap, approach=float(approach),
@@ -651,8 +651,8 @@ def steady_sphere(radius, load, velocity, material, half_size, cells):
     # start from the relaxed Hertz contact: the steady one lies inside it but for a shift of its leading edge
     relaxed = (0.75 * load * radius * (compliance[0] + compliance[1].sum())) ** (1.0 / 3.0)
     cell_area = spacing**2
-    pressure, approach, gap, iterations, residual = _solve_contact(matrix, heights.ravel(), cell_area, load,
-                                                                   np.hypot(x1, x2).ravel() < relaxed)
+    pressure, approach, gap, iterations, residual = solve_dense_contact(matrix, heights.ravel(), cell_area, load,
+                                                                        np.hypot(x1, x2).ravel() < relaxed)
     pressure, gap = pressure.reshape(cells, cells), gap.reshape(cells, cells)
     contact = pressure > 0.0
     _check_edges(contact.any(axis=1), name="half_size", size=half_size)
