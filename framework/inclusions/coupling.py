@@ -181,8 +181,8 @@ class ContactCoupling:
         :class:`~framework.inclusions.equivalent.EquivalentInclusionProblem`); the contact's
         nonlinearity (cells entering or leaving) is a small change of ``b`` that the mixing absorbs.
         The strains ``D[e_k]`` and displacements ``B e_k`` are combined as the iterates are, so a
-        product per iteration is all the operator costs (one more when the box has moved, and one
-        more at the end on a box too large to keep the iterates' strains, :data:`ANDERSON_BYTES`). The
+        product per iteration is all the operator costs (one more at the start when the box has moved,
+        or when the last step's box was too large to keep its strain there, :data:`ANDERSON_BYTES`). The
         step has converged when the eigenstrains' surface displacement changes by at most
         ``tolerance`` times the surface displacement and the equivalent-inclusion residual is
         below ``inclusion_tolerance`` of its right-hand side.
@@ -315,7 +315,8 @@ class ContactCoupling:
 ANDERSON_DEPTH = 20
 
 #: Memory the Anderson history's strains on the whole box may take [bytes]: a larger box keeps them on the
-#: inhomogeneities' cuboids only and computes the converged step's strain on the box by one more product.
+#: inhomogeneities' cuboids only (all a step's outputs need), and its next step, unless the box moved (which costs
+#: the product anyway), computes its start's strain on the box by one product.
 ANDERSON_BYTES = 256 * 2**20
 
 #: Relative cut of the Anderson Gram matrix's eigenvalues (singular values of the scaled differences below 1e-6
