@@ -123,8 +123,9 @@ def test_stress_at_points_is_refused_with_a_viscoelastic_matrix():
 
 
 def test_resume_from_a_checkpoint_with_the_histories_on_the_whole_box(tmp_path, stop_after, monkeypatch):
-    """A checkpoint written when the contact strain's and e~'s histories lived on the whole box (zero outside the
-    bodies for e~; the contact strain's anywhere) resumes on the bodies' cuboids: the same run bit for bit."""
+    """A checkpoint written when the histories (the contact strain's, e~'s, the matrix stress's) and the last
+    eigenstrain lived on the whole box (any values outside the bodies) resumes on the bodies' cuboids: the same run
+    bit for bit."""
     from framework.inclusions.coupling import ContactCoupling
     simulation = held_carbide
     whole = simulation().run()
@@ -134,7 +135,8 @@ def test_resume_from_a_checkpoint_with_the_histories_on_the_whole_box(tmp_path, 
         out = snapshot(self)
         inner = self.problem.problem
         for key, value in out.items():
-            if key.startswith(("inclusion_creep_", "inclusion_weighted_")) and np.ndim(value) >= 2 \
+            if key.startswith(("inclusion_creep_", "inclusion_weighted_", "inclusion_relaxation_",
+                               "inclusion_eigenstrain")) and np.ndim(value) >= 2 \
                     and np.shape(value)[-2:] == (inner.material.size, 6):
                 box = np.random.default_rng(1).normal(size=(*np.shape(value)[:-2], *self.problem.shape, 6))
                 box[(slice(None),) * (np.ndim(value) - 2) + inner.cells] = value
