@@ -35,7 +35,15 @@ def machine():
         pass
     return (f"{platform.node()} | {cpu} | {os.cpu_count()} cores | Python {platform.python_version()} | "
             f"numpy {np.__version__} | FFT backend {fft.get_backend()} with {fft.THREADS} threads | "
-            f"load average {os.getloadavg()[0]:.2f}")
+            f"FFTW wisdom {wisdom()} | load average {os.getloadavg()[0]:.2f}")
+
+
+def wisdom():
+    """Where FFTW's wisdom comes from (a process's first plans are measured without it): the file and its size."""
+    path = fft.WISDOM.path
+    if fft.get_backend() != "pyfftw" or path is None:
+        return "off"
+    return f"{path} ({os.path.getsize(path)} bytes)" if os.path.isfile(path) else f"{path} (none yet)"
 
 
 def errors_against_hertz(pressure, cell_area, exact):
