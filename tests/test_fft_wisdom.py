@@ -18,18 +18,11 @@ pytestmark = pytest.mark.skipif(fft.pyfftw is None, reason="FFTW's wisdom needs 
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-#: Plans a RealFFTPair (the contact solver's transforms) of an odd shape no other code here plans.
+#: Asks FFTW whether its wisdom holds the forward transform of a RealFFTPair (the contact solver's transforms) of
+#: an odd shape no other code here plans (a plan made with FFTW_WISDOM_ONLY exists only then), then plans that pair
+#: and prints its transform's sum: ``known <sum>`` or ``unknown <sum>``.
 PLAN = """
 import numpy as np
-from framework import fft
-pair = fft.RealFFTPair((46, 38))
-pair.real_in[...] = np.arange(46 * 38).reshape(46, 38) % 7
-pair.forward()
-print(repr(float(np.abs(pair.spectrum).sum())))
-"""
-
-#: Exits 0 where the wisdom holds the pair's forward transform, 3 where FFTW refuses a wisdom-only plan.
-ASK = """
 import pyfftw
 from framework import fft
 fft.WISDOM.load()
@@ -37,56 +30,57 @@ a = pyfftw.empty_aligned((46, 38), dtype="float64")
 b = pyfftw.empty_aligned((46, 20), dtype="complex128")
 try:
     pyfftw.FFTW(a, b, axes=(-2, -1), flags=("FFTW_MEASURE", "FFTW_WISDOM_ONLY"), threads=fft.THREADS)
+    known = "known"
 except RuntimeError:
-    raise SystemExit(3)
+    known = "unknown"
+pair = fft.RealFFTPair((46, 38))
+pair.real_in[...] = np.arange(46 * 38).reshape(46, 38) % 7
+pair.forward()
+print(known, repr(float(np.abs(pair.spectrum).sum())))
 """
 
 
-def run(code, wisdom):
+def run(wisdom):
+    """``(known, sum)`` of :data:`PLAN` run in a fresh process with ``FRAMEWORK_FFT_WISDOM=wisdom``."""
     env = dict(os.environ, FRAMEWORK_FFT_WISDOM=str(wisdom), PYTHONPATH=ROOT)
     env.pop("FRAMEWORK_FFT_BACKEND", None)
-    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-c", PLAN], env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stderr == "", done.stderr
+    known, total = done.stdout.split()
+    return known, float(total)
 
 
 def test_a_process_writes_its_wisdom_and_the_next_plans_from_it(tmp_path):
     path = tmp_path / "cache" / "fftw-wisdom"          # its folder made at exit
-    assert run(ASK, path).returncode == 3               # nothing known yet
-    first = run(PLAN, path)
-    assert first.returncode == 0, first.stderr
-    assert path.is_file()
+    known, first = run(path)
+    assert known == "unknown" and path.is_file()
     mask = os.umask(0)
     os.umask(mask)
     assert stat.S_IMODE(path.stat().st_mode) == 0o666 & ~mask
     assert not [p for p in path.parent.iterdir() if p.name != path.name]     # no temporary file left
-    asked = run(ASK, path)
-    assert asked.returncode == 0, asked.stderr          # the plan is known from the file alone
-    second = run(PLAN, path)                            # the same numbers, whichever plan runs
-    assert second.returncode == 0, second.stderr
-    assert float(second.stdout) == pytest.approx(float(first.stdout), rel=1e-14)
+    known, second = run(path)
+    assert known == "known"                             # the plan is known from the file alone
+    assert second == pytest.approx(first, rel=1e-14)    # the same numbers, whichever plan runs
 
 
-def test_off_keeps_no_file_and_plans_without_one(tmp_path):
+def test_off_keeps_no_file_and_plans_without_one(tmp_path, monkeypatch):
     for value in ("off", "0", "none", "false", "OFF"):
         assert fft.wisdom_path(value) is None
-    done = run(PLAN, "off")
-    assert done.returncode == 0, done.stderr
-    assert run(ASK, "off").returncode == 3
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))     # where the default would write
+    assert run("off")[0] == "unknown"
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_a_damaged_file_is_ignored_and_replaced(tmp_path):
     path = tmp_path / "fftw-wisdom"
     path.write_bytes(bytes(np.random.default_rng(0).integers(0, 256, 4000, dtype=np.uint8)))
-    done = run(PLAN, path)
-    assert done.returncode == 0, done.stderr
-    assert done.stderr == ""
-    assert run(ASK, path).returncode == 0              # written back whole
+    assert run(path)[0] == "unknown"
+    assert run(path)[0] == "known"                      # written back whole
 
 
-def test_an_unwritable_place_costs_nothing_but_the_wisdom(unwritable_folder, tmp_path):
+def test_an_unwritable_place_costs_nothing_but_the_wisdom(unwritable_folder):
     path = os.path.join(unwritable_folder, "sub", "fftw-wisdom")
-    done = run(PLAN, path)
-    assert done.returncode == 0, done.stderr
-    assert done.stderr == ""
+    assert run(path)[0] == "unknown"
     assert not os.path.exists(path)
 
 
