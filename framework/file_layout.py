@@ -252,7 +252,7 @@ def _count(value):
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def check_shapes(objects, configuration, fail, format=CUBOID_FIELDS):
+def check_shapes(objects, configuration, fail, format):
     """Every dataset's shape and dtype against the configuration's grid and the steps of ``series/time``."""
     n1, n2, layers = grid_shape(configuration, fail)
     time = objects["series/time"]["shape"]

@@ -513,8 +513,9 @@ def check_records(records, grid, inclusions, options, *, path, name):
     if not inclusions or not all(holding):
         raise fail("it holds eigenstrains, but its configuration has no inhomogeneities")
     from .inclusions.field import body_cuboids, layout
-    start, shape, _ = layout(grid, inclusions, options.inclusion_margin)
-    cells = body_cuboids(grid, inclusions, options.inclusion_margin, options.inclusion_geometry)
+    placed = layout(grid, inclusions, options.inclusion_margin)
+    start, shape, _ = placed
+    cells = body_cuboids(grid, inclusions, placed, options.inclusion_geometry)
     needed = (cells[0].size, 6)
     limits = (*grid.shape, grid.layers)
     for record in records:

@@ -367,7 +367,7 @@ class Result:
             else:
                 self._require_inclusions()
                 from .inclusions.field import body_cuboids
-                self._inclusion_cells = body_cuboids(self.grid, self.inclusions, self.options.inclusion_margin,
+                self._inclusion_cells = body_cuboids(self.grid, self.inclusions, self._layout(),
                                                      self.options.inclusion_geometry)
         return self._inclusion_cells
 

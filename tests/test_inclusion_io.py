@@ -107,13 +107,13 @@ def test_configuration_names_the_eigenstrain_operator(tmp_path):
 def test_a_loaded_result_finds_the_cuboids_its_fields_lie_on(geometry, tmp_path):
     """The records keep their fields on the cuboids the system solved on (laminate: the cut ones too); a loaded
     result finds them from its configuration (``inclusions.field.body_cuboids``), without the operators."""
-    from framework.inclusions.field import body_cuboids
+    from framework.inclusions.field import body_cuboids, layout
     sim = simulation(loads=[30.0])
     sim = fw.Simulation(grid=sim.grid, material=sim.material, indenter=sim.indenter, schedule=sim.schedule,
                         inclusions=sim.inclusions, options={"inclusion_geometry": geometry})
     result = sim.run()
     cells = sim._inclusion_problem.problem.cells
-    found = body_cuboids(result.grid, result.inclusions, geometry=geometry)
+    found = body_cuboids(result.grid, result.inclusions, layout(result.grid, result.inclusions), geometry=geometry)
     assert all(np.array_equal(a, b) for a, b in zip(found, cells))
     assert result.records[0].eigenstrain.shape == result.records[0].inclusion_stress.shape == (cells[0].size, 6)
     staircase = np.count_nonzero(sim._inclusion_problem.indicator)

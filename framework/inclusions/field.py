@@ -76,14 +76,15 @@ def layout(grid, inclusions, margin=None):
     return start, shape, inclusions.indicator(*box_coordinates(grid, start, shape))
 
 
-def body_cuboids(grid, inclusions, margin=None, geometry="staircase"):
+def body_cuboids(grid, inclusions, placed, geometry="staircase"):
     """The box's cuboids the equivalent-inclusion system solves on (``np.nonzero`` of its indicator, C order):
     those whose centre a body contains, and with ``geometry="laminate"`` also those a body's boundary cuts.
 
-    A run's records keep their eigenstrains and stresses on these cuboids only (``(N, 6)``), the
-    cuboids of :class:`InclusionProblem`'s ``problem.cells``, found without building its operators.
+    ``placed`` is the box's :func:`layout` ``(start, shape, indicator)``. A run's records keep their
+    eigenstrains and stresses on these cuboids only (``(N, 6)``), the cuboids of
+    :class:`InclusionProblem`'s ``problem.cells``, found without building its operators.
     """
-    start, shape, indicator = layout(grid, inclusions, margin)
+    start, shape, indicator = placed
     if geometry != "laminate":
         return np.nonzero(indicator)
     fraction, owner, _ = inclusions.fractions(*box_coordinates(grid, start, shape),
