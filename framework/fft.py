@@ -23,7 +23,6 @@ other numbers. An unreadable or damaged file is ignored (and replaced at exit).
 import atexit
 import contextlib
 import os
-import tempfile
 
 import numpy as np
 import scipy.fft
@@ -99,25 +98,22 @@ class _Wisdom:
 
     def save(self):
         """Write the wisdom back (atomically, umask permissions) if this process added to it; never raises."""
-        temporary = None
+        from .io import temporary     # the result files' temporary name (leftovers of dead processes removed)
+        wisdom = pyfftw.export_wisdom()[0]
+        if wisdom == self.known:
+            return
+        writing = None
         try:
-            wisdom = pyfftw.export_wisdom()[0]
-            if wisdom == self.known:
-                return
-            folder = os.path.dirname(self.path)
-            os.makedirs(folder, exist_ok=True)
-            handle, temporary = tempfile.mkstemp(dir=folder, prefix=".fftw-wisdom-")
-            with os.fdopen(handle, "wb") as out:
+            os.makedirs(os.path.dirname(self.path), exist_ok=True)
+            writing = temporary(self.path)
+            with open(writing, "wb") as out:        # open's mode: 0o666 less the umask
                 out.write(wisdom)
-            mask = os.umask(0)
-            os.umask(mask)
-            os.chmod(temporary, 0o666 & ~mask)
-            os.replace(temporary, self.path)
+            os.replace(writing, self.path)
             self.known = wisdom
         except OSError:     # a read-only or full disk costs the next process its planning, nothing else
-            if temporary is not None:
+            if writing is not None:
                 with contextlib.suppress(OSError):
-                    os.unlink(temporary)
+                    os.remove(writing)
 
 
 WISDOM = _Wisdom(wisdom_path(os.environ.get("FRAMEWORK_FFT_WISDOM")))
