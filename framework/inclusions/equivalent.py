@@ -64,8 +64,9 @@ FOURIER_BODIES = 1
 DISPERSION_CONTRAST = 0.3
 
 #: Cuboids of matrix between the bodies' periodic images on the box's own lattice, along every axis, for the
-#: Fourier preconditioner to work there (:class:`FourierPreconditioner`, ``own``): a gap of 5 cost a carbide
+#: Fourier preconditioner to work there (:class:`FourierPreconditioner`, ``"own"``): a gap of 5 cost a carbide
 #: sphere 40 cuboids across one iteration in 12, one of 3.6 a small glass sphere 10 % more in a rolling run.
+#: Elsewhere it works on the box grown by :data:`~framework.operators.eigenstrain.FOLDED_GAP` (``"folded"``).
 OWN_LATTICE_GAP = 6
 
 
@@ -241,22 +242,24 @@ class FourierPreconditioner:
     iteration stalled). The matrices (36 values per wavenumber, a quarter of the wavenumbers for
     isotropic materials) must fit in :data:`FOURIER_BYTES`, else each cuboid is solved alone.
 
-    ``own``: the periodic cell is the box's own lattice (half the padded one along each axis, the
-    kernels folded onto it), eight times fewer points to transform and to store. Where the box leaves
-    matrix cuboids around the inhomogeneities (a margin), it preconditions as well: one GMRES iteration
-    more or none (a carbide sphere 40 cuboids across, 1 and 3 cuboids of margin: 12 and 11 iterations
-    against 11 and 10; the rolling bench's glass sphere: the same counts), each iteration 25-30 % cheaper.
-    Where the bodies' periodic images come close it does worse (a sphere filling a 64^3 box, images
-    touching: 17 against 11), so :class:`EquivalentInclusionProblem` uses it only where they stay
-    :data:`OWN_LATTICE_GAP` cuboids apart.
+    ``lattice``, the periodic cell (:meth:`~framework.operators.eigenstrain.HalfSpaceEigenstrain.lattice_shape`,
+    the kernels folded onto it): ``"own"``, half the padded lattice along each axis, eight times fewer
+    points to transform and to store. Where the box leaves matrix cuboids around the inhomogeneities (a
+    margin), it preconditions as well: one GMRES iteration more or none (a carbide sphere 40 cuboids
+    across, 1 and 3 cuboids of margin: 12 and 11 iterations against 11 and 10; the rolling bench's glass
+    sphere: the same counts), each iteration 25-30 % cheaper. Where the bodies' periodic images come close
+    it does worse (a sphere filling a 64^3 box, images touching: 17 against 11), so
+    :class:`EquivalentInclusionProblem` uses it only where they stay :data:`OWN_LATTICE_GAP` cuboids apart,
+    and elsewhere ``"folded"``, the box grown by :data:`~framework.operators.eigenstrain.FOLDED_GAP` cuboids
+    (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11).
     """
 
-    def __init__(self, operator, contrast, matrix, own=False):
-        self.operator, self.own = operator, own
-        direct, (first, second), parities = operator.infinite_spectra(own=own)
+    def __init__(self, operator, contrast, matrix, lattice="padded"):
+        self.operator, self.lattice = operator, lattice
+        direct, (first, second), parities = operator.infinite_spectra(lattice)
         unit = isotropic_mandel(1.0, operator.poisson)
         arguments = (direct, first, second, *parities, contrast @ np.linalg.inv(unit), matrix)
-        n1, n2, n3 = operator.own_shape if own else operator.fft_shape
+        n1, n2, n3 = operator.lattice_shape(lattice)
         # Reflected along x1 or x2, K(q) changes the signs of the components odd along that axis; when the
         # contrast and the matrix keep them (isotropic, or orthotropic along the axes), so do the inverses,
         # and a quarter of them is stored.
@@ -271,9 +274,9 @@ class FourierPreconditioner:
             self.matrices[row] = np.linalg.inv(fourier_matrices(*arguments, n1, n2, rows=[row], columns=columns)[0])
 
     @staticmethod
-    def fits(operator, stiffnesses, own=False):
+    def fits(operator, stiffnesses, lattice="padded"):
         """Whether the matrices for these inhomogeneities' stiffnesses (Mandel) take at most :data:`FOURIER_BYTES`."""
-        n1, n2, n3 = operator.own_shape if own else operator.fft_shape
+        n1, n2, n3 = operator.lattice_shape(lattice)
         isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
                         for p in operator.kernel_parities for c in stiffnesses)
         rows, columns = (n1 // 2 + 1, n2 // 2 + 1) if isotropic else (n1, n2)
@@ -283,7 +286,7 @@ class FourierPreconditioner:
         """The preconditioned box field of a box field ``(m1, m2, m3, 6)`` (Mandel components)."""
         passes = loops()
         return self.operator.fourier(field, lambda spectra, k0, k1: passes.fourier_apply(
-            spectra, self.matrices, *self.parities, k0), own=self.own)
+            spectra, self.matrices, *self.parities, k0), lattice=self.lattice)
 
 
 @dataclass
@@ -346,13 +349,16 @@ class EquivalentInclusionProblem:
         self.cells = np.nonzero(indicator)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
-        # the Fourier preconditioner on the box's own lattice where the bodies' periodic images stay apart there
-        self._own = bool(self.material.size) and all(
+        # the Fourier preconditioner on the box's own lattice where the bodies' periodic images stay apart there,
+        # else on the box grown by that gap where that is smaller than the padded lattice
+        own = bool(self.material.size) and all(
             n - (np.ptp(cells) + 1) >= OWN_LATTICE_GAP for n, cells in zip(operator.own_shape, self.cells))
+        self._lattice = ("own" if own else "folded" if np.prod(operator.folded_shape) < np.prod(operator.fft_shape)
+                         else "padded")
         if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
             same = all(np.abs(c - self.stiffness[0]).max() <= 1e-12 * np.abs(self.stiffness[0]).max()
                        for c in self.stiffness)
-            preconditioner = "fourier" if same and FourierPreconditioner.fits(operator, self.stiffness, self._own) \
+            preconditioner = "fourier" if same and FourierPreconditioner.fits(operator, self.stiffness, self._lattice) \
                 else "local"
         # the contrast the Fourier preconditioner fills the box with: the bodies' own, or a dispersion's share
         self._share = 1.0 if len(self.stiffness) <= FOURIER_BODIES else DISPERSION_CONTRAST
@@ -383,6 +389,8 @@ class EquivalentInclusionProblem:
 
     def per_material(self, matrices, values):
         """``values (N, 6)`` each times its cuboid's material's matrix (``matrices[k]`` for material ``k``)."""
+        if len(matrices) == 1:  # one material: no masks (two copies of the values each)
+            return values @ matrices[0].T
         if len(matrices) > 8:   # many materials (the laminate's cut cuboids): one gathered product, not a loop of masks
             return np.einsum("nij,nj->ni", np.asarray(matrices)[self.material], values)
         out = np.empty_like(values)
@@ -573,7 +581,7 @@ class EquivalentInclusionProblem:
             return self.per_material(self._preconditioner, values).ravel()
         if self._fourier is None:      # (the modulus it was built for, the preconditioner)
             self._fourier = (self.young, FourierPreconditioner(self.operator, self._share * self.contrast[0],
-                                                               self.matrix, own=self._own))
+                                                               self.matrix, lattice=self._lattice))
         field = np.zeros((*self.operator.shape, 6))
         field[self.cells] = values
         return self._fourier[1](field)[self.cells].ravel()

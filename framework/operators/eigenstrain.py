@@ -346,12 +346,19 @@ ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 #: 611 and 682 ms estimated, for 5.6 s of planning; this machine, one thread).
 MEASURED_FFT_POINTS = 2 ** 25
 
+#: Cuboids of matrix the folded lattice (:meth:`HalfSpaceEigenstrain.lattice_shape`) adds to the box along each
+#: axis, a periodic cell for a Fourier preconditioner where the bodies fill the box: a sphere filling a 64^3 box
+#: takes 12 GMRES iterations on it against 11 on the padded lattice (72^3 points against 128^3); a gap of 6 sent a
+#: rolling run's coupled iteration over a sphere filling its 10^3 box into stagnation (38 couplings against 19 at
+#: a moved step, none converged at 1e-12), 4 and 8 did not (8: the padded lattice's counts).
+FOLDED_GAP = 8
+
 #: Cells by which :meth:`HalfSpaceEigenstrain.pressure_stress` grows the window of the pressure and the box's
 #: footprint it transforms: the window is kept while they stay inside it.
 PRESSURE_WINDOW_SLACK = 16
 
 
-def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None):
+def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None, fold=None):
     """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra of ``C : D``.
 
     Each ``(21, N1/2+1, N2/2+1, N3/2+1)`` (unit Young's modulus, Mandel basis) on the padded lattice
@@ -367,6 +374,10 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
     ``blocks``, a list of ``(k0, k1)`` ranges of q3: the kernels are returned as ``{k0: (direct, mirror)}``, each
     block its own contiguous array, built so (not cut from whole arrays: that held the kernels twice, the peak
     of a 128^3 box's build).
+
+    ``fold``, a lattice ``(L1, L2, L3)`` (even, each at least the offsets): the infinite-space kernels' real
+    factors summed over its periods, ``(21, L1/2+1, L2/2+1, L3/2+1)``, from the same values
+    (:func:`~framework.operators.parity.folded_spectrum`), returned after the kernels as ``(kernels, folded)``.
     """
     n1, n2, n3 = fft_shape
     # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
@@ -383,8 +394,14 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
         dtype = float if part == 0 else complex
         keys = {k0: np.empty((len(KEYS), *quarter, k1 - k0), dtype=dtype) for k0, k1 in blocks}
         weights = np.zeros((len(ENTRIES), len(KEYS)))
+        folded = None if fold is None or part else np.empty((len(KEYS), *(n // 2 + 1 for n in fold)))
         for index, (key, values) in enumerate(potential_kernel_items(faces[0], faces[1], faces3, cell=cell)):
             parities = key_parities(key)
+            if folded is not None:
+                spectrum = values
+                for axis in range(3):
+                    spectrum = parity.folded_spectrum(spectrum, parities[axis], fold[axis], axis)
+                folded[index] = spectrum * parity.phase(parities).real
             spectrum = parity.half_spectrum(values, parities[0], n1, axis=0)
             spectrum = parity.half_spectrum(spectrum, parities[1], n2, axis=1)
             if part == 0:
@@ -401,8 +418,12 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
             block = keys.pop(k0)
             parts[part][k0] = (weights @ block.reshape(len(KEYS), -1)).reshape(len(ENTRIES), *quarter, k1 - k0)
             del block
+        if folded is not None:
+            folded = (weights @ folded.reshape(len(KEYS), -1)).reshape(len(ENTRIES), *folded.shape[1:])
+            parts[0]["folded"] = folded
     out = {k0: (parts[0][k0], parts[1][k0]) for k0, _ in blocks}
-    return out[0] if whole else out
+    out = out[0] if whole else out
+    return out if fold is None else (out, parts[0]["folded"])
 
 
 def surface_traction_kernels(faces1, faces2, top, layers, thickness, poisson):
@@ -479,7 +500,9 @@ class HalfSpaceEigenstrain:
         self.fft_shape = tuple(fft.even_size(2 * m) for m in shape)
         # the kernels held a block of q3 at a time, each block contiguous (the pass streams one block per block
         # of spectra: strided slices of whole arrays read four times the memory, twice the time on 256^3)
-        self._kernel_blocks = self._box_spectra(self.spacing if average else None, q3_blocks(self.fft_shape))
+        self.folded_shape = tuple(min(n, fft.even_size(m + FOLDED_GAP)) for m, n in zip(shape, self.fft_shape))
+        self._kernel_blocks, self._folded = self._box_spectra(self.spacing if average else None,
+                                                              q3_blocks(self.fft_shape), self.folded_shape)
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         # an entry's parity in x1 and x2 is the product of its two components' parities
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
@@ -502,30 +525,30 @@ class HalfSpaceEigenstrain:
         self._pressure_surface = None
         self._ffts = {}
 
-    def _box_spectra(self, cell, blocks):
+    def _box_spectra(self, cell, blocks, fold):
         """Real factors of the 21 infinite-space spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` and the complex
         mirror spectra ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit Young's modulus, Mandel basis)
-        between the box's cuboids (:func:`kernel_spectra`), per block of q3 ``{k0: (direct, mirror)}``."""
+        between the box's cuboids (:func:`kernel_spectra`), per block of q3 ``{k0: (direct, mirror)}``, and the
+        infinite-space ones folded onto the lattice ``fold``."""
         m3, n3 = self.shape[2], self.fft_shape[2]
         half_faces = [(np.arange(m + 1) - 0.5) * h for m, h in zip(self.shape, self.spacing)]
         mirror_faces = (2 * self.start[2] + np.arange(2 * m3) + 0.5) * self.spacing[2]
         place = (np.arange(2 * m3 - 1) - (m3 - 1)) % n3      # the mirror kernel's sums of depths, centred
-        return kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell, blocks)
+        return kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell, blocks, fold)
 
     def _traction(self, faces1, faces2):
         """``2 s33`` at the surface ``(F1, F2, m3, 6)`` per unit eigenstrain component of a cuboid of each layer
         (top-down), unit modulus, target minus source between the faces ``faces1``, ``faces2`` [m]."""
         return surface_traction_kernels(faces1, faces2, self.start[2], self.shape[2], self.spacing[2], self.poisson)
 
-    def _box_fft(self, own=False):
-        """The pruned transforms of a product on the padded lattice (``own``: on the box's own lattice), made at
-        their first use (:class:`~framework.operators.box_fft.BoxFFT`)."""
-        key = "own" if own else "padded"
-        if key not in self._ffts:
-            shape = self.own_shape if own else self.fft_shape
+    def _box_fft(self, lattice="padded"):
+        """The pruned transforms of a product on one of the box's lattices (:meth:`lattice_shape`), made at their
+        first use (:class:`~framework.operators.box_fft.BoxFFT`)."""
+        if lattice not in self._ffts:
+            shape = self.lattice_shape(lattice)
             effort = "FFTW_MEASURE" if np.prod(shape) <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
-            self._ffts[key] = BoxFFT(self.shape, shape, effort=effort)
-        return self._ffts[key]
+            self._ffts[lattice] = BoxFFT(self.shape, shape, effort=effort)
+        return self._ffts[lattice]
 
     def _check(self, eigenstrain):
         expected = (*self.shape, 6)
@@ -623,22 +646,31 @@ class HalfSpaceEigenstrain:
         self._surface.move(start)
         self.start = start
 
-    def fourier(self, field, multiply, own=False):
+    def fourier(self, field, multiply, lattice="padded"):
         """``F^-1 [multiply(F field)]`` on the padded box, for a box field ``(m1, m2, m3, 6)`` (Mandel components).
 
         ``multiply(spectra, k0, k1)`` changes the six spectra ``(6, N1, N2, k1 - k0)`` of the wavenumbers
         ``q3 = k0 .. k1 - 1`` in place (:class:`~framework.operators.box_fft.BoxFFT`); the box part of the
         result is returned. For preconditioners that act on the box as if it were one homogeneous periodic
-        cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`). ``own``: on the box's own
-        lattice instead, half the padded one along each axis (:attr:`own_shape`, eight times fewer points),
-        whose spectra :meth:`infinite_spectra` gives with ``own=True``.
+        cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`); ``lattice`` names the periodic
+        cell (:meth:`lattice_shape`), whose spectra :meth:`infinite_spectra` gives.
         """
-        return self._box_fft(own).apply(field, multiply)
+        return self._box_fft(lattice).apply(field, multiply)
 
     @property
     def own_shape(self):
         """The box's own periodic lattice: half the padded one along each axis (at least the box)."""
         return tuple(n // 2 for n in self.fft_shape)
+
+    def lattice_shape(self, lattice):
+        """The points of a lattice the box lies on: ``"padded"`` (:attr:`fft_shape`, a product's: twice the box
+        or more, convolutions linear), ``"own"`` (:attr:`own_shape`, half the padded one) or ``"folded"``
+        (:attr:`folded_shape`: the box grown by :data:`FOLDED_GAP` cuboids, the padded one where that is not
+        smaller). The last two are periodic cells for preconditioners, not linear convolutions."""
+        shapes = {"padded": self.fft_shape, "own": self.own_shape, "folded": self.folded_shape}
+        if lattice not in shapes:
+            raise ParameterError(f"lattice must be 'padded', 'own' or 'folded', got {lattice!r}")
+        return shapes[lattice]
 
     @property
     def kernel_parities(self):
@@ -659,18 +691,22 @@ class HalfSpaceEigenstrain:
         blocks = [self._kernel_blocks[k0][part] for k0 in sorted(self._kernel_blocks)]
         return blocks[0] if len(blocks) == 1 else np.concatenate(blocks, axis=-1)
 
-    def infinite_spectra(self, own=False):
+    def infinite_spectra(self, lattice="padded"):
         """The infinite-space term's kernels: real factors ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit
         Young's modulus, Mandel basis) for ``q1, q2 >= 0``, the entries' components ``(first, second)``
         and the components' parities in x1 and x2 (an entry's is their product).
 
-        ``own``: on :attr:`own_shape`, the padded lattice's even wavenumbers, i.e. the kernels summed over
-        the periods of the box's own lattice (a DFT of length N taken at every other wavenumber is the
-        DFT of length N/2 of the signal folded onto N/2).
+        On the lattice named (:meth:`lattice_shape`): ``"own"``, the padded lattice's even wavenumbers, i.e. the
+        kernels summed over the periods of the box's own lattice (a DFT of length N taken at every other
+        wavenumber is the DFT of length N/2 of the signal folded onto N/2); ``"folded"``, the kernels summed
+        over the periods of :attr:`folded_shape`, made with the padded ones from the same values.
         """
-        if own:     # the even q3 of each block, without joining the blocks
+        self.lattice_shape(lattice)
+        if lattice == "own":     # the even q3 of each block, without joining the blocks
             blocks = sorted(self._kernel_blocks.items())
             direct = np.concatenate([block[0][:, ::2, ::2, k0 % 2::2] for k0, block in blocks], axis=-1)
+        elif lattice == "folded":
+            direct = self._folded
         else:
             direct = self._direct
         return direct, self._entries, self._parities

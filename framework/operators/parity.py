@@ -47,3 +47,28 @@ def phase(parities):
     """``(-1j) ** (number of odd axes)``: the factor between a kernel's DFT and its real factor."""
     odd = int(np.count_nonzero(np.asarray(parities) < 0))
     return (-1j) ** odd
+
+
+def folded_spectrum(values, parity, size, axis):
+    """:func:`half_spectrum` of the kernel summed over the periods of a lattice of ``size`` (even) points.
+
+    The kernel is given at the offsets ``0 .. S`` (``S < size``) along ``axis``; the lattice's point ``d``
+    (``0 .. size/2``) gets ``x_d + parity x_(size - d)``, its own offset and the image of ``d - size``
+    (``d`` and ``d - size`` are one point of the lattice; at ``d = size/2`` both images count). A lattice
+    shorter than twice the offsets makes the periodic cell of a preconditioner, not a linear convolution.
+    """
+    half = size // 2
+    count = values.shape[axis]
+    if count > size:
+        raise ValueError(f"{count} offsets exceed a period of {size}")
+    moved = np.moveaxis(values, axis, 0)
+    folded = np.zeros((half + 1, *moved.shape[1:]))
+    kept = min(count, half + 1)
+    folded[:kept] = moved[:kept]
+    for d in range(max(0, size - count + 1), half + 1):
+        folded[d] += parity * moved[size - d]
+    folded = np.moveaxis(folded, 0, axis)
+    if parity > 0:      # DCT-I over 0 .. size/2: x_0 + (-1)^q x_(size/2) + 2 sum x_n cos(2 pi q n / size)
+        return scipy.fft.dct(folded, type=1, axis=axis)
+    # odd: x_0 and x_(size/2) vanish (the two images of size/2 cancel), so the DST-I of the rest
+    return half_spectrum(np.take(folded, np.arange(half), axis=axis), parity, size, axis)
