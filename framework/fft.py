@@ -22,6 +22,7 @@ other numbers. An unreadable or damaged file is ignored (and replaced at exit).
 """
 import atexit
 import contextlib
+import functools
 import os
 
 import numpy as np
@@ -317,21 +318,32 @@ class Transform:
     once (``effort``, an FFTW planner flag) and the input of a forward transform is left as it is, so a
     zero padding written once stays; with scipy each call transforms anew with ``workers=THREADS``.
     Both arrays should come from :func:`zeros` so that pyFFTW can use its vector instructions.
+    ``effort="wisdom"``: FFTW's measured plan where its wisdom (kept between processes) holds one for this
+    transform, else its estimate (no measuring); :attr:`effort` says which was made.
     """
 
     def __init__(self, source, target, axes, inverse=False, effort="FFTW_MEASURE"):
         self.source, self.target, self.axes = source, target, tuple(axes)
         real_in, real_out = not np.iscomplexobj(source), not np.iscomplexobj(target)
         self.kind = "r2c" if real_in else ("c2r" if real_out else ("c2c-inverse" if inverse else "c2c"))
-        self.backend = _backend
+        self.backend, self.effort = _backend, effort
         if _backend == "pyfftw":
             WISDOM.load()
-            flags = [effort] + (["FFTW_DESTROY_INPUT"] if self.kind == "c2r" else [])
-            saved = np.array(source, copy=True)     # planning with FFTW_MEASURE scribbles on the buffers
+            extra = ["FFTW_DESTROY_INPUT"] if self.kind == "c2r" else []
             direction = "FFTW_BACKWARD" if self.kind in ("c2r", "c2c-inverse") else "FFTW_FORWARD"
-            self._plan = pyfftw.FFTW(source, target, axes=self.axes, direction=direction, flags=flags,
+            plan = functools.partial(pyfftw.FFTW, source, target, axes=self.axes, direction=direction,
                                      threads=THREADS)
-            source[...] = saved
+            if effort == "wisdom":      # neither asks FFTW to run transforms: the buffers are left alone
+                try:
+                    self._plan, self.effort = plan(flags=["FFTW_MEASURE", "FFTW_WISDOM_ONLY"] + extra), "FFTW_MEASURE"
+                except RuntimeError:    # "No FFTW wisdom is known for this plan."
+                    self._plan, self.effort = plan(flags=["FFTW_ESTIMATE"] + extra), "FFTW_ESTIMATE"
+            elif effort == "FFTW_ESTIMATE":
+                self._plan = plan(flags=[effort] + extra)
+            else:
+                saved = np.array(source, copy=True)     # planning by measurement scribbles on the buffers
+                self._plan = plan(flags=[effort] + extra)
+                source[...] = saved
 
     def __call__(self):
         if self.backend == "pyfftw":

@@ -21,7 +21,8 @@ from .. import fft
 
 #: Applications planned by FFTW's estimate before the transforms are planned again by measurement (where asked):
 #: measuring costs more than it saves in a short solve (a 64^3 box: 1.6 s of planning for 85 instead of 107 ms
-#: an application) and pays within a few steps of a long run (a 30^3 box: 0.4 s, 6.3 instead of 12.4 ms).
+#: an application) and pays within a few steps of a long run (a 30^3 box: 0.4 s, 6.3 instead of 12.4 ms). Plans
+#: FFTW's wisdom already holds (measured by an earlier process, :mod:`framework.fft`) are taken measured at once.
 MEASURE_AFTER = 64
 #: Lattices of more points than this are planned by measurement at once: their estimated plans (strided batches
 #: of long lines) run far slower (a 96^3 box: 730 against 393 ms an application; 128^3: 5.4 against 1.1 s).
@@ -74,17 +75,27 @@ class BoxFFT:
         self._buffers = {}          # a block of q3's spectra, by block size
         self.measure, self.applications = effort == "FFTW_MEASURE", 0
         later = self.measure and n1 * n2 * n3 <= MEASURE_AT_ONCE_POINTS
-        self._plan("FFTW_ESTIMATE" if later else effort)
+        self._plan("wisdom" if later else effort)
 
     def _plan(self, effort):
-        """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are kept)."""
+        """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are kept); ``"wisdom"``: measured
+        where FFTW's wisdom holds the plan, else estimated (:class:`framework.fft.Transform`)."""
         self.effort = effort
         self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort)
                               for c in range(6)]
         self._line_inverse = fft.Transform(self._line_spectrum, self._lines_out, axes=(2,), effort=effort)
         self._plans = {}
-        for size in self._buffers:
+        for size in sorted({k1 - k0 for k0, k1 in self.blocks} if effort == "wisdom" else self._buffers, reverse=True):
             self._block_plans(size)
+        self._settle()
+
+    def _settle(self):
+        """After planning from wisdom: measured if every transform was (none to plan again), else estimated."""
+        if self.effort == "wisdom":
+            transforms = [*self._line_forward, self._line_inverse, *(t for plans in self._plans.values()
+                                                                     for t in plans[1:])]
+            measured = all(t.effort == "FFTW_MEASURE" for t in transforms)
+            self.effort = "FFTW_MEASURE" if measured else "FFTW_ESTIMATE"
 
     def _block_plans(self, size):
         """Buffer ``(6, N1, N2, size)`` and its transforms (for the block size and for the last, shorter one)."""
