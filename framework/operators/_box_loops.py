@@ -33,65 +33,113 @@ class _Loops:
     """The passes as loops, for numba."""
 
     def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
+        # Unrolled for the 21 entries of eigenstrain.ENTRIES (first, second are theirs: the numpy form reads them):
+        # the six components of a wavenumber and of its reversal stay in registers, and the four wavenumbers
+        # +-q1, +-q2 that share a stored kernel value read it once (a loop over the entries read and wrote
+        # the sums at each of its 36 products: 81 -> 63 ms on a 128^3 lattice).
         _, n1, n2, h = spectra.shape
         half1, half2 = n1 // 2, n2 // 2
-        entries = first.shape[0]
-        source_p = np.empty((6, h), dtype=np.complex128)
-        source_q = np.empty((6, h), dtype=np.complex128)
-        image_p = np.empty((6, h), dtype=np.complex128)
-        image_q = np.empty((6, h), dtype=np.complex128)
-        out_p = np.empty((6, h), dtype=np.complex128)
-        out_q = np.empty((6, h), dtype=np.complex128)
-        sign_p = np.empty(6)
-        sign_q = np.empty(6)
-        for i1 in range(n1):
+        g, m = np.empty((4, 6)), np.empty((4, 6))
+        rows, columns = np.empty(4, dtype=np.int64), np.empty(4, dtype=np.int64)
+        for i1 in range(half1 + 1):
             r1 = (n1 - i1) % n1
-            if r1 < i1:
-                continue
-            j1 = min(i1, r1)
-            for i2 in range(n2):
+            for i2 in range(half2 + 1):
                 r2 = (n2 - i2) % n2
-                if i1 == r1 and r2 < i2:
-                    continue
-                j2 = min(i2, r2)
-                for c in range(6):
-                    # an entry's parity is the product of its two components': the signs of a negative
-                    # wavenumber go on the sources and on the results, not on each of the 36 products
-                    g_p, g_q = 1.0, 1.0
-                    if i1 > half1:
-                        g_p *= parity1[c]
-                    if r1 > half1:
-                        g_q *= parity1[c]
-                    if i2 > half2:
-                        g_p *= parity2[c]
-                    if r2 > half2:
-                        g_q *= parity2[c]
-                    sign_p[c], sign_q[c] = g_p, g_q
-                    for k in range(h):
-                        a = spectra[c, i1, i2, k]
-                        b = spectra[c, r1, r2, k]
-                        source_p[c, k] = g_p * a
-                        source_q[c, k] = g_q * b
-                        image_p[c, k] = (g_p * mirror_sign[c]) * b.conjugate()
-                        image_q[c, k] = (g_q * mirror_sign[c]) * a.conjugate()
-                        out_p[c, k] = 0.0
-                        out_q[c, k] = 0.0
-                for e in range(entries):
-                    a, b = first[e], second[e]
-                    for k in range(h):
-                        kd, km = direct[e, j1, j2, k], mirror[e, j1, j2, k]
-                        out_p[a, k] += kd * source_p[b, k] + km * image_p[b, k]
-                        out_q[a, k] += kd * source_q[b, k] + km * image_q[b, k]
-                        if a != b:
-                            out_p[b, k] += kd * source_p[a, k] + km * image_p[a, k]
-                            out_q[b, k] += kd * source_q[a, k] + km * image_q[a, k]
+                # two pairs (a wavenumber, its reversal) share the kernel at (i1, i2); one where a row or a
+                # column is its own reversal
+                rows[0], columns[0], rows[1], columns[1] = i1, i2, r1, r2
+                rows[2], columns[2], rows[3], columns[3] = i1, r2, r1, i2
+                pairs = 2 if i1 != r1 and i2 != r2 else 1
                 same = i1 == r1 and i2 == r2
-                for c in range(6):
+                for s in range(4):
+                    for c in range(6):
+                        x = (parity1[c] if rows[s] > half1 else 1.0) * (parity2[c] if columns[s] > half2 else 1.0)
+                        g[s, c], m[s, c] = x, x * mirror_sign[c]
+                D0, M0 = direct[0, i1, i2], mirror[0, i1, i2]; D1, M1 = direct[1, i1, i2], mirror[1, i1, i2]
+                D2, M2 = direct[2, i1, i2], mirror[2, i1, i2]; D3, M3 = direct[3, i1, i2], mirror[3, i1, i2]
+                D4, M4 = direct[4, i1, i2], mirror[4, i1, i2]; D5, M5 = direct[5, i1, i2], mirror[5, i1, i2]
+                D6, M6 = direct[6, i1, i2], mirror[6, i1, i2]; D7, M7 = direct[7, i1, i2], mirror[7, i1, i2]
+                D8, M8 = direct[8, i1, i2], mirror[8, i1, i2]; D9, M9 = direct[9, i1, i2], mirror[9, i1, i2]
+                D10, M10 = direct[10, i1, i2], mirror[10, i1, i2]; D11, M11 = direct[11, i1, i2], mirror[11, i1, i2]
+                D12, M12 = direct[12, i1, i2], mirror[12, i1, i2]; D13, M13 = direct[13, i1, i2], mirror[13, i1, i2]
+                D14, M14 = direct[14, i1, i2], mirror[14, i1, i2]; D15, M15 = direct[15, i1, i2], mirror[15, i1, i2]
+                D16, M16 = direct[16, i1, i2], mirror[16, i1, i2]; D17, M17 = direct[17, i1, i2], mirror[17, i1, i2]
+                D18, M18 = direct[18, i1, i2], mirror[18, i1, i2]; D19, M19 = direct[19, i1, i2], mirror[19, i1, i2]
+                D20, M20 = direct[20, i1, i2], mirror[20, i1, i2]
+                for pair in range(pairs):
+                    p, q = 2 * pair, 2 * pair + 1
+                    P0 = spectra[0, rows[p], columns[p]]
+                    Q0 = spectra[0, rows[q], columns[q]]
+                    P1 = spectra[1, rows[p], columns[p]]
+                    Q1 = spectra[1, rows[q], columns[q]]
+                    P2 = spectra[2, rows[p], columns[p]]
+                    Q2 = spectra[2, rows[q], columns[q]]
+                    P3 = spectra[3, rows[p], columns[p]]
+                    Q3 = spectra[3, rows[q], columns[q]]
+                    P4 = spectra[4, rows[p], columns[p]]
+                    Q4 = spectra[4, rows[q], columns[q]]
+                    P5 = spectra[5, rows[p], columns[p]]
+                    Q5 = spectra[5, rows[q], columns[q]]
+                    gp0, gq0, mp0, mq0 = g[p, 0], g[q, 0], m[p, 0], m[q, 0]
+                    gp1, gq1, mp1, mq1 = g[p, 1], g[q, 1], m[p, 1], m[q, 1]
+                    gp2, gq2, mp2, mq2 = g[p, 2], g[q, 2], m[p, 2], m[q, 2]
+                    gp3, gq3, mp3, mq3 = g[p, 3], g[q, 3], m[p, 3], m[q, 3]
+                    gp4, gq4, mp4, mq4 = g[p, 4], g[q, 4], m[p, 4], m[q, 4]
+                    gp5, gq5, mp5, mq5 = g[p, 5], g[q, 5], m[p, 5], m[q, 5]
                     for k in range(h):
-                        spectra[c, i1, i2, k] = sign_p[c] * out_p[c, k]
-                    if not same:
-                        for k in range(h):
-                            spectra[c, r1, r2, k] = sign_q[c] * out_q[c, k]
+                        a, b = P0[k], Q0[k]
+                        sp0, sq0, ip0, iq0 = gp0 * a, gq0 * b, mp0 * b.conjugate(), mq0 * a.conjugate()
+                        a, b = P1[k], Q1[k]
+                        sp1, sq1, ip1, iq1 = gp1 * a, gq1 * b, mp1 * b.conjugate(), mq1 * a.conjugate()
+                        a, b = P2[k], Q2[k]
+                        sp2, sq2, ip2, iq2 = gp2 * a, gq2 * b, mp2 * b.conjugate(), mq2 * a.conjugate()
+                        a, b = P3[k], Q3[k]
+                        sp3, sq3, ip3, iq3 = gp3 * a, gq3 * b, mp3 * b.conjugate(), mq3 * a.conjugate()
+                        a, b = P4[k], Q4[k]
+                        sp4, sq4, ip4, iq4 = gp4 * a, gq4 * b, mp4 * b.conjugate(), mq4 * a.conjugate()
+                        a, b = P5[k], Q5[k]
+                        sp5, sq5, ip5, iq5 = gp5 * a, gq5 * b, mp5 * b.conjugate(), mq5 * a.conjugate()
+                        kd, km = D0[k], M0[k]; op0 = kd * sp0 + km * ip0; oq0 = kd * sq0 + km * iq0
+                        kd, km = D1[k], M1[k]; op0 += kd * sp1 + km * ip1; oq0 += kd * sq1 + km * iq1
+                        op1 = kd * sp0 + km * ip0; oq1 = kd * sq0 + km * iq0
+                        kd, km = D2[k], M2[k]; op1 += kd * sp1 + km * ip1; oq1 += kd * sq1 + km * iq1
+                        kd, km = D3[k], M3[k]; op0 += kd * sp2 + km * ip2; oq0 += kd * sq2 + km * iq2
+                        op2 = kd * sp0 + km * ip0; oq2 = kd * sq0 + km * iq0
+                        kd, km = D4[k], M4[k]; op1 += kd * sp2 + km * ip2; oq1 += kd * sq2 + km * iq2
+                        op2 += kd * sp1 + km * ip1; oq2 += kd * sq1 + km * iq1
+                        kd, km = D5[k], M5[k]; op2 += kd * sp2 + km * ip2; oq2 += kd * sq2 + km * iq2
+                        kd, km = D6[k], M6[k]; op0 += kd * sp3 + km * ip3; oq0 += kd * sq3 + km * iq3
+                        op3 = kd * sp0 + km * ip0; oq3 = kd * sq0 + km * iq0
+                        kd, km = D7[k], M7[k]; op1 += kd * sp3 + km * ip3; oq1 += kd * sq3 + km * iq3
+                        op3 += kd * sp1 + km * ip1; oq3 += kd * sq1 + km * iq1
+                        kd, km = D8[k], M8[k]; op2 += kd * sp3 + km * ip3; oq2 += kd * sq3 + km * iq3
+                        op3 += kd * sp2 + km * ip2; oq3 += kd * sq2 + km * iq2
+                        kd, km = D9[k], M9[k]; op3 += kd * sp3 + km * ip3; oq3 += kd * sq3 + km * iq3
+                        kd, km = D10[k], M10[k]; op0 += kd * sp4 + km * ip4; oq0 += kd * sq4 + km * iq4
+                        op4 = kd * sp0 + km * ip0; oq4 = kd * sq0 + km * iq0
+                        kd, km = D11[k], M11[k]; op1 += kd * sp4 + km * ip4; oq1 += kd * sq4 + km * iq4
+                        op4 += kd * sp1 + km * ip1; oq4 += kd * sq1 + km * iq1
+                        kd, km = D12[k], M12[k]; op2 += kd * sp4 + km * ip4; oq2 += kd * sq4 + km * iq4
+                        op4 += kd * sp2 + km * ip2; oq4 += kd * sq2 + km * iq2
+                        kd, km = D13[k], M13[k]; op3 += kd * sp4 + km * ip4; oq3 += kd * sq4 + km * iq4
+                        op4 += kd * sp3 + km * ip3; oq4 += kd * sq3 + km * iq3
+                        kd, km = D14[k], M14[k]; op4 += kd * sp4 + km * ip4; oq4 += kd * sq4 + km * iq4
+                        kd, km = D15[k], M15[k]; op0 += kd * sp5 + km * ip5; oq0 += kd * sq5 + km * iq5
+                        op5 = kd * sp0 + km * ip0; oq5 = kd * sq0 + km * iq0
+                        kd, km = D16[k], M16[k]; op1 += kd * sp5 + km * ip5; oq1 += kd * sq5 + km * iq5
+                        op5 += kd * sp1 + km * ip1; oq5 += kd * sq1 + km * iq1
+                        kd, km = D17[k], M17[k]; op2 += kd * sp5 + km * ip5; oq2 += kd * sq5 + km * iq5
+                        op5 += kd * sp2 + km * ip2; oq5 += kd * sq2 + km * iq2
+                        kd, km = D18[k], M18[k]; op3 += kd * sp5 + km * ip5; oq3 += kd * sq5 + km * iq5
+                        op5 += kd * sp3 + km * ip3; oq5 += kd * sq3 + km * iq3
+                        kd, km = D19[k], M19[k]; op4 += kd * sp5 + km * ip5; oq4 += kd * sq5 + km * iq5
+                        op5 += kd * sp4 + km * ip4; oq5 += kd * sq4 + km * iq4
+                        kd, km = D20[k], M20[k]; op5 += kd * sp5 + km * ip5; oq5 += kd * sq5 + km * iq5
+                        if not same:
+                            Q0[k] = gq0 * oq0; Q1[k] = gq1 * oq1; Q2[k] = gq2 * oq2
+                            Q3[k] = gq3 * oq3; Q4[k] = gq4 * oq4; Q5[k] = gq5 * oq5
+                        P0[k] = gp0 * op0; P1[k] = gp1 * op1; P2[k] = gp2 * op2
+                        P3[k] = gp3 * op3; P4[k] = gp4 * op4; P5[k] = gp5 * op5
 
     def surface_sum(total, kernels, factors, parity1, spectra, first):
         planes, n1, h = spectra.shape
