@@ -21,9 +21,10 @@ machine, then
 Memory: the process's peak resident size (``ru_maxrss``: it only grows, so
 each case reports the peak so far, cases in increasing size) and the peak of
 the Python-tracked allocations (numpy arrays) during the case (tracemalloc,
-reset per case).
+reset per case) with ``--traced`` only: tracing slows the stages it watches
+(the 64^3 build by about a second), so the timed runs go untraced.
 
-    .venv/bin/python bench/inclusion.py [--sizes 64] [--large] [--skip-contact]
+    .venv/bin/python bench/inclusion.py [--sizes 64] [--large] [--skip-contact] [--traced]
 """
 import argparse
 import os
@@ -62,7 +63,7 @@ class traced:
         return self
 
     def __exit__(self, *_):
-        self.peak = tracemalloc.get_traced_memory()[1] / 2**30
+        self.peak = tracemalloc.get_traced_memory()[1] / 2**30 if tracemalloc.is_tracing() else float("nan")
 
 
 def coupled_step(cells=128, diameter=20):
@@ -117,6 +118,8 @@ def main():
     parser.add_argument("--sizes", type=int, nargs="+", default=[64], help="box sides n (cuboids) of part 2")
     parser.add_argument("--large", action="store_true", help="add the 128^3 box (minutes, several GiB)")
     parser.add_argument("--skip-contact", action="store_true", help="leave out part 1")
+    parser.add_argument("--traced", action="store_true",
+                        help="also trace part 2's numpy allocations (tracemalloc: slows it by about a second at 64^3)")
     args = parser.parse_args()
     sizes = sorted(set(args.sizes + ([128] if args.large else [])))
     print(machine())
@@ -132,7 +135,8 @@ def main():
               f"version 5.9 s and 7.6 s); couplings per step {row['couplings']}, {row['products']} eigenstrain "
               f"products in all, contact (PK) iterations {row['contact_iterations']}")
         print(f"   peak RSS {row['rss']:.3f} GiB; p_max {row['pressure'] / 1e9:.4g} GPa", flush=True)
-    tracemalloc.start()
+    if args.traced:
+        tracemalloc.start()
     print("\n2. solve_inclusions on n^3 boxes (sphere of diameter n cells, WC in steel, uniaxial 1e-3); goals: 64^3 "
           "build + solve <= 5 s, 128^3 <= 90 s and <= 3 GiB; before this version 64^3: 17 s + 15 s, 2.1 GiB; "
           "128^3: 105 s + 328 s, 13.9 GiB")
