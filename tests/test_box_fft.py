@@ -97,3 +97,15 @@ def test_transforms_planned_again_by_measurement(monkeypatch):
     assert again.effort == "FFTW_MEASURE"
     out = again.apply(field, lambda spectra, k0, k1: None)
     assert np.abs(out - field).max() <= 1e-14 * np.abs(field).max()
+
+
+@pytest.mark.parametrize("block_bytes", [None, 20000])
+def test_buffer_bytes_counts_the_buffers_a_box_fft_holds(block_bytes):
+    """buffer_bytes (which decides whether a Fourier preconditioner on a lattice of its own fits its memory) is the
+    bytes of the buffers a BoxFFT holds after an application, in one block of q3 or in several."""
+    from framework.operators import box_fft
+    kwargs = {} if block_bytes is None else {"block_bytes": block_bytes}
+    box = BoxFFT((5, 6, 7), (10, 12, 14), effort="FFTW_ESTIMATE", **kwargs)
+    box.apply(np.ones((5, 6, 7, 6)), lambda spectra, k0, k1: None)
+    held = [box._lines_in, box._lines, box._lines_out, box._line_spectrum, box._buffers[box.block]]
+    assert box_fft.buffer_bytes((5, 6, 7), (10, 12, 14), **kwargs) == sum(a.nbytes for a in held)

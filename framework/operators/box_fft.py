@@ -44,6 +44,15 @@ def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES):
     return [(k0, min(h, k0 + size)) for k0 in range(0, h, size)]
 
 
+def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES):
+    """Memory of a :class:`BoxFFT`'s buffers [bytes]: the box's lines (in, out and their spectra) and one block of
+    ``q3``'s spectra on the lattice."""
+    (m1, m2, _), (n1, n2, n3) = shape, fft_shape
+    h = n3 // 2 + 1
+    block = max(k1 - k0 for k0, k1 in q3_blocks(fft_shape, block_bytes))
+    return 8 * (2 * m1 * m2 * n3) + 16 * (7 * m1 * m2 * h) + 16 * 6 * n1 * n2 * block
+
+
 class BoxFFT:
     """``F^-1 [pass(F field)]`` on the padded lattice of a box, restricted to the box, for six components.
 
