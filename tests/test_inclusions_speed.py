@@ -310,6 +310,7 @@ def test_fourier_preconditioner_on_the_boxs_own_lattice_or_the_box_grown_by_a_ga
             counts[lattice], solutions[lattice] = solution.iterations, solution.eigenstrain
             shape = problem.operator.lattice_shape(lattice)
             assert problem._fourier[1].matrices.shape[:3] == tuple(n // 2 + 1 for n in shape)
+            assert (problem.operator._folded is None) == (chosen == "own")     # built only where it serves
         if chosen == "folded":
             assert problem.operator.folded_shape == tuple(fft.even_size(m + FOLDED_GAP) for m in problem.operator.shape)
         assert counts[chosen] <= counts["padded"] + (1 if chosen == "own" else 2)

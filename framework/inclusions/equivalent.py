@@ -73,6 +73,14 @@ DISPERSION_CONTRAST = 0.3
 OWN_LATTICE_GAP = 6
 
 
+def periodic_cell(own_shape, cells):
+    """The Fourier preconditioner's periodic cell for bodies on the box's cuboids ``cells`` (``np.nonzero`` of an
+    indicator): ``"own"`` where their periodic images stay :data:`OWN_LATTICE_GAP` cuboids apart on the box's own
+    lattice ``own_shape``, else ``"folded"`` (the box grown by a gap; the padded lattice where that is no smaller)."""
+    own = len(cells[0]) > 0 and all(n - (np.ptp(c) + 1) >= OWN_LATTICE_GAP for n, c in zip(own_shape, cells))
+    return "own" if own else "folded"
+
+
 def mandel_matrix(tensor):
     """6x6 Mandel matrix of a stiffness tensor ``(3, 3, 3, 3)``."""
     out = np.empty((6, 6))
@@ -357,12 +365,9 @@ class EquivalentInclusionProblem:
         self.cells = np.nonzero(indicator)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
-        # the Fourier preconditioner on the box's own lattice where the bodies' periodic images stay apart there,
-        # else on the box grown by that gap where that is smaller than the padded lattice
-        own = bool(self.material.size) and all(
-            n - (np.ptp(cells) + 1) >= OWN_LATTICE_GAP for n, cells in zip(operator.own_shape, self.cells))
-        self._lattice = ("own" if own else "folded" if np.prod(operator.folded_shape) < np.prod(operator.fft_shape)
-                         else "padded")
+        self._lattice = periodic_cell(operator.own_shape, self.cells)
+        if self._lattice == "folded" and np.prod(operator.folded_shape) >= np.prod(operator.fft_shape):
+            self._lattice = "padded"
         if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
             same = all(np.abs(c - self.stiffness[0]).max() <= 1e-12 * np.abs(self.stiffness[0]).max()
                        for c in self.stiffness)

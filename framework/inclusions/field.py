@@ -3,9 +3,10 @@ import numpy as np
 
 from .._validation import check_bool, check_finite_array
 from ..errors import InclusionError, ParameterError, ShapeError
+from ..fft import even_size
 from ..materials import Elastic, Viscoelastic, isotropic_tensor
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
-from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix
+from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix, periodic_cell
 
 #: Inhomogeneities must be at least this stiff relative to the matrix (smallest eigenvalue of
 #: ``C_M^-1/2 C_I C_M^-1/2``). The cell-averaged operator's spectrum lies in [0, 0.983] (see
@@ -225,8 +226,11 @@ class InclusionProblem:
         starts = None
         if travel is not None:
             starts = self._check_travel(start, travel)
+        # the kernels on the folded lattice only where the bodies' preconditioner will take it
+        own_shape = tuple(even_size(2 * m) // 2 for m in self.shape)
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
-                                             starts=starts)
+                                             starts=starts,
+                                             folded=periodic_cell(own_shape, np.nonzero(materials)) == "folded")
         self.problem = EquivalentInclusionProblem(self.operator, materials, solved, instantaneous(matrix),
                                                   recycle=check_bool(recycle, name="recycle"))
         for k in range(len(inclusions)):
