@@ -3,7 +3,6 @@ import numpy as np
 
 from .._validation import check_bool, check_finite_array
 from ..errors import InclusionError, ParameterError, ShapeError
-from ..fft import even_size
 from ..materials import Elastic, Viscoelastic, isotropic_tensor
 from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain
 from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix, periodic_cell
@@ -227,10 +226,9 @@ class InclusionProblem:
         if travel is not None:
             starts = self._check_travel(start, travel)
         # the kernels on the folded lattice only where the bodies' preconditioner will take it
-        own_shape = tuple(even_size(2 * m) // 2 for m in self.shape)
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
                                              starts=starts,
-                                             folded=periodic_cell(own_shape, np.nonzero(materials)) == "folded")
+                                             folded=periodic_cell(self.shape, np.nonzero(materials)) == "folded")
         self.problem = EquivalentInclusionProblem(self.operator, materials, solved, instantaneous(matrix),
                                                   recycle=check_bool(recycle, name="recycle"))
         for k in range(len(inclusions)):

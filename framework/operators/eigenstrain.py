@@ -358,6 +358,12 @@ FOLDED_GAP = 8
 PRESSURE_WINDOW_SLACK = 16
 
 
+def padded_shape(shape):
+    """A box's padded lattice: even sizes of at least twice the box, with small prime factors (its own lattice,
+    :attr:`HalfSpaceEigenstrain.own_shape`, is half of it)."""
+    return tuple(fft.even_size(2 * m) for m in shape)
+
+
 def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None, fold=None):
     """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra of ``C : D``.
 
@@ -501,7 +507,7 @@ class HalfSpaceEigenstrain:
         self.spacing = (*grid.spacing, grid.layer_thickness)
         self.average = average
         self.depths = grid.x3[start[2]:start[2] + shape[2]]
-        self.fft_shape = tuple(fft.even_size(2 * m) for m in shape)
+        self.fft_shape = padded_shape(shape)
         # the kernels held a block of q3 at a time, each block contiguous (the pass streams one block per block
         # of spectra: strided slices of whole arrays read four times the memory, twice the time on 256^3)
         self.folded_shape = (tuple(min(n, fft.even_size(m + FOLDED_GAP)) for m, n in zip(shape, self.fft_shape))
