@@ -94,17 +94,13 @@ class BoxFFT:
                               for c in range(6)]
         self._line_inverse = fft.Transform(self._line_spectrum, self._lines_out, axes=(2,), effort=effort)
         self._plans = {}
-        for size in sorted({k1 - k0 for k0, k1 in self.blocks} if effort == "wisdom" else self._buffers, reverse=True):
+        for size in sorted({k1 - k0 for k0, k1 in self.blocks}, reverse=True):     # the first block's buffer first
             self._block_plans(size)
-        self._settle()
-
-    def _settle(self):
-        """After planning from wisdom: measured if every transform was (none to plan again), else estimated."""
-        if self.effort == "wisdom":
+        if effort == "wisdom":      # measured if every transform was (none to plan again), else estimated
             transforms = [*self._line_forward, self._line_inverse, *(t for plans in self._plans.values()
                                                                      for t in plans[1:])]
-            measured = all(t.effort == "FFTW_MEASURE" for t in transforms)
-            self.effort = "FFTW_MEASURE" if measured else "FFTW_ESTIMATE"
+            self.effort = ("FFTW_MEASURE" if all(t.effort == "FFTW_MEASURE" for t in transforms)
+                           else "FFTW_ESTIMATE")
 
     def _block_plans(self, size):
         """Buffer ``(6, N1, N2, size)`` and its transforms (for the block size and for the last, shorter one)."""
