@@ -1,0 +1,66 @@
+"""The Fourier preconditioner's weakness on a stiff body, measured against its continuum estimate
+(``bench/preconditioner_spectrum.py``; README, "Where the products go").
+
+On a field confined to a sphere, the box filled with the body's material applies the direction average of
+the inverse plane-wave operator, where Eshelby's solution needs the inverse of the average: the
+preconditioned operator's uniform modes have eigenvalues ``[(C_I - C_M) S + C_M] <F(n)^-1>``, 6.0
+(dilatation) and 8.5 (shear) for glass in a polymer of 2.25 GPa. These tests check the estimate's pieces
+against Eshelby's closed forms and the operator's largest eigenvalue against the estimate.
+"""
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench"))
+
+import preconditioner_spectrum as spectrum  # noqa: E402
+import framework as fw  # noqa: E402
+from framework import inclusions  # noqa: E402
+from framework.inclusions.equivalent import MANDEL  # noqa: E402
+from framework.inclusions.field import InclusionProblem  # noqa: E402
+
+
+def test_the_direction_average_of_plane_waves_is_eshelbys_sphere_and_one_material_is_exact():
+    """The average of the plane-wave strains over 2,000 directions is Eshelby's sphere tensor (S1111 =
+    (7 - 5 nu) / (15 (1 - nu)), S2323 = (4 - 5 nu) / (15 (1 - nu)), S1122 = (5 nu - 1) / (15 (1 - nu))) to
+    1e-3, and with the body's material equal to the matrix's the estimate is the identity."""
+    nu = spectrum.MATRIX.poisson
+    eshelby, estimates = spectrum.uniform_mode_estimate([31.1], directions=2000)
+    d = 15 * (1 - nu)
+    assert abs(eshelby[0, 0] - (7 - 5 * nu) / d) <= 1e-3
+    assert abs(eshelby[0, 1] - (5 * nu - 1) / d) <= 1e-3
+    assert abs(eshelby[3, 3] - 2 * (4 - 5 * nu) / d) <= 1e-3      # Mandel: 2 S2323
+    same = spectrum.uniform_mode_estimate([1.0], directions=200, poisson=nu)[1][1.0]
+    assert np.abs(same - 1.0).max() <= 1e-12
+    assert 5.5 <= estimates[31.1][0] <= 6.5 and 8.0 <= estimates[31.1][-1] <= 9.0
+
+
+def test_a_stiff_spheres_largest_preconditioned_eigenvalue_is_the_uniform_modes_estimate():
+    """Glass (contrast 31) sphere 12 cuboids across, deep: the largest eigenvalue of A M is within 10 % of the
+    continuum shear estimate (measured 8.06 against 8.52) and its eigenvector is smooth (99 % in quadratic
+    polynomials of position over the body)."""
+    from scipy.sparse.linalg import LinearOperator, eigs
+    cell = 25e-6
+    grid = fw.Grid(shape=(32, 32), size=(32 * cell, 32 * cell), depth=36 * cell, layers=36)
+    body = inclusions.Ellipsoid(center=(0.0, 0.0, 24 * cell), semi_axes=(6 * cell,) * 3, material=spectrum.GLASS)
+    inner = InclusionProblem(grid, spectrum.MATRIX, inclusions.InclusionSet([body]), recycle=False).problem
+    assert inner.preconditioner == "fourier"
+
+    def preconditioned(vector):
+        z = inner._local_solve(np.real(vector))
+        return inner._image(z, inner.operator.strain(inner.box_field(z.reshape(-1, 6)))[inner.cells] * MANDEL)
+
+    operator = LinearOperator((inner.size, inner.size), matvec=preconditioned, dtype=float)
+    values, vectors = eigs(operator, k=2, which="LM", tol=1e-4, v0=np.ones(inner.size))
+    top = int(np.argmax(np.abs(values)))
+    estimate = spectrum.uniform_mode_estimate([spectrum.GLASS.young / spectrum.MATRIX.young], directions=1000)[1]
+    shear = list(estimate.values())[0][-1]
+    assert abs(values[top].imag) <= 1e-6 * abs(values[top].real)
+    assert abs(values[top].real - shear) <= 0.1 * shear
+    cells = np.array(inner.cells, dtype=float).T
+    x = (cells - cells.mean(0)) / 6.0
+    powers = [(a, b, c) for a in range(3) for b in range(3 - a) for c in range(3 - a - b)]
+    basis = np.linalg.qr(np.array([x[:, 0] ** a * x[:, 1] ** b * x[:, 2] ** c for a, b, c in powers]).T)[0]
+    mode = np.real(vectors[:, top]).reshape(-1, 6)
+    assert ((basis.T @ mode) ** 2).sum() >= 0.95 * (mode ** 2).sum()
