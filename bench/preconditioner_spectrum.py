@@ -31,7 +31,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import framework as fw  # noqa: E402
 from framework import inclusions, materials  # noqa: E402
-from framework.inclusions.equivalent import MANDEL, isotropic_mandel  # noqa: E402
+from framework.inclusions.equivalent import MANDEL, isotropic_mandel, mandel_matrix  # noqa: E402
 from framework.inclusions.field import InclusionProblem, strain_vector  # noqa: E402
 from elastic_hertz import machine  # noqa: E402
 
@@ -43,19 +43,9 @@ def plane_wave_strain(n, stiffness):
     """``D(n)`` (Mandel, 6 x 6): the strain of a plane-wave eigenstrain along the unit vector ``n`` in an infinite
     body of ``stiffness`` (3x3x3x3)."""
     inverse = np.linalg.inv(np.einsum("i,ijkl,l->jk", n, stiffness, n))
-    pairs = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
-    green = np.zeros((6, 6))
-    for p, (i, j) in enumerate(pairs):
-        for q, (k, l) in enumerate(pairs):
-            green[p, q] = 0.25 * (n[i] * inverse[j, k] * n[l] + n[j] * inverse[i, k] * n[l]
-                                  + n[i] * inverse[j, l] * n[k] + n[j] * inverse[i, l] * n[k])
-    green *= np.outer(MANDEL, MANDEL)
-    return green @ isotropic_mandel_of(stiffness)
-
-
-def isotropic_mandel_of(stiffness):
-    pairs = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
-    return np.array([[stiffness[i, j, k, l] for k, l in pairs] for i, j in pairs]) * np.outer(MANDEL, MANDEL)
+    green = 0.25 * (np.einsum("i,jk,l->ijkl", n, inverse, n) + np.einsum("j,ik,l->ijkl", n, inverse, n)
+                    + np.einsum("i,jl,k->ijkl", n, inverse, n) + np.einsum("j,il,k->ijkl", n, inverse, n))
+    return mandel_matrix(green) @ mandel_matrix(stiffness)
 
 
 def tensor(young, poisson):
