@@ -1,14 +1,18 @@
-"""Why a stiff body's equivalent-inclusion solve takes the products it takes: the spectrum of the
-Fourier-preconditioned operator, the shape of its largest modes, and a continuum estimate of them.
+"""Why a stiff body's equivalent-inclusion solve needed many products with the filled cell's inverse alone as its
+preconditioner, and what solving that cell's system on the body does: the spectra of the preconditioned
+operators, the shape of their largest modes, and a continuum estimate of them.
 
 The body of ``bench/rolling_inclusion.py`` (a glass sphere 20 cuboids across, E = 70 GPa, nu = 0.22) in a
 matrix of that bench's effective modulus (E = 2.25 GPa, nu = 0.35), its default box (margin half a semi-axis),
 deep in the half-space. Prints, on this machine:
 
-1. GMRES iterations to 1e-4, 1e-7 and 1e-10 under a uniform strain (no recycled directions);
-2. the largest eigenvalues of ``A M`` (``A`` the equivalent-inclusion operator, ``M`` the Fourier
-   preconditioner; ARPACK, ``--modes`` of them) and, for each of their eigenvectors, the share of it that
-   polynomials of the position over the body of degree 0 to 3 hold (a smooth mode: most of it);
+1. GMRES iterations to 1e-4, 1e-7 and 1e-10 under a uniform strain (no recycled directions), with the filled
+   periodic cell's inverse ``F^-1`` alone and with the cell's system on the body ``P F P x = v`` solved
+   (:meth:`~framework.inclusions.equivalent.EquivalentInclusionProblem._inner_solve`, the default);
+2. the largest eigenvalues of ``A M`` (``A`` the equivalent-inclusion operator, ``M = F^-1``; ARPACK,
+   ``--modes`` of them) and, for each of their eigenvectors, the share of it that polynomials of the position
+   over the body of degree 0 to 3 hold (a smooth mode: most of it); then those of ``A (P F P)^-1`` (the cell's
+   system solved to 1e-10): what is left is the half-space's mirror and surface terms and the cell's images;
 3. the continuum estimate for the body's uniform modes: on a field confined to a sphere the box filled with
    the body's material applies ``<F(n)^-1>``, the average over directions ``n`` of the inverse plane-wave
    operator ``F(n) = (C_I - C_M) D(n) + C_M``, where the sphere needs ``[(C_I - C_M) S + C_M]^-1``
@@ -31,6 +35,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import framework as fw  # noqa: E402
 from framework import inclusions, materials  # noqa: E402
+from framework.inclusions import equivalent  # noqa: E402
 from framework.inclusions.equivalent import MANDEL, isotropic_mandel, mandel_matrix  # noqa: E402
 from framework.inclusions.field import InclusionProblem, strain_vector  # noqa: E402
 from elastic_hertz import machine  # noqa: E402
@@ -89,14 +94,19 @@ def main():
     print(f"glass sphere {args.cells} cuboids across in E = {MATRIX.young / 1e9:g} GPa (contrast "
           f"{GLASS.young / MATRIX.young:.1f}), box {inner.operator.shape}, {inner.material.size} cuboids inside, "
           f"preconditioner {inner.preconditioner} on the {inner._lattice} lattice")
-    counts = [inner.solve(strain_vector(np.diag([1e-3, 0.0, 0.0]), name="a"), tolerance=t).iterations
-              for t in (1e-4, 1e-7, 1e-10)]
-    print(f"1. GMRES iterations to 1e-4 / 1e-7 / 1e-10: {counts[0]} / {counts[1]} / {counts[2]}")
+    for solved in (False, True):
+        inner.inner = solved
+        counts = [inner.solve(strain_vector(np.diag([1e-3, 0.0, 0.0]), name="a"), tolerance=t).iterations
+                  for t in (1e-4, 1e-7, 1e-10)]
+        print(f"1. GMRES iterations to 1e-4 / 1e-7 / 1e-10, " + ("the filled cell's system solved on the body "
+              "(the default)" if solved else "the filled cell's inverse alone") + f": {counts[0]} / {counts[1]} / "
+              f"{counts[2]}")
 
     from scipy.sparse.linalg import LinearOperator, eigs
 
-    def preconditioned(vector):
-        z = inner._local_solve(np.real(vector))
+    def preconditioned(vector, solved=False):
+        values = np.real(vector).reshape(-1, 6)
+        z = inner._inner_solve(values) if solved else inner._filled(values)
         return inner._image(z, inner.operator.strain(inner.box_field(z.reshape(-1, 6)))[inner.cells] * MANDEL)
 
     begin = time.perf_counter()
@@ -110,12 +120,18 @@ def main():
         powers = [(a, b, c) for a in range(degree + 1) for b in range(degree + 1 - a)
                   for c in range(degree + 1 - a - b)]
         bases.append(np.linalg.qr(np.array([x[:, 0] ** a * x[:, 1] ** b * x[:, 2] ** c for a, b, c in powers]).T)[0])
-    print(f"2. largest eigenvalues of A M ({time.perf_counter() - begin:.0f} s) and their eigenvectors' share in "
-          f"polynomials of degree 0 / 1 / 2 / 3 over the body:")
+    print(f"2. largest eigenvalues of A M, M the filled cell's inverse ({time.perf_counter() - begin:.0f} s), and their "
+          f"eigenvectors' share in polynomials of degree 0 / 1 / 2 / 3 over the body:")
     for k in order:
         mode = np.real(vectors[:, k]).reshape(-1, 6)
         shares = [float(((basis.T @ mode) ** 2).sum() / (mode ** 2).sum()) for basis in bases]
         print(f"   {values[k].real:6.2f}   " + " / ".join(f"{s:.3f}" for s in shares))
+    tolerance, equivalent.INNER_TOLERANCE = equivalent.INNER_TOLERANCE, 1e-10     # the cell's system solved exactly
+    solved = eigs(LinearOperator((inner.size, inner.size), matvec=lambda v: preconditioned(v, True), dtype=float),
+                  k=args.modes, which="LM", tol=1e-4, return_eigenvectors=False)
+    equivalent.INNER_TOLERANCE = tolerance
+    print("   with the filled cell's system solved on the body: " + " ".join(f"{v.real:.3f}" for v in
+                                                                        sorted(solved, key=lambda v: -abs(v))))
     eshelby, estimates = uniform_mode_estimate([3.0, 10.0, GLASS.young / MATRIX.young, 100.0, 266.0])
     print(f"3. continuum estimate for the uniform modes (Eshelby's S1111 from the directions: {eshelby[0, 0]:.4f}, "
           f"exact {(7 - 5 * MATRIX.poisson) / (15 * (1 - MATRIX.poisson)):.4f}):")

@@ -66,6 +66,15 @@ FOURIER_BODIES = 1
 #: (17 at 0.1), against 28 cuboid by cuboid; 15-16 for 2 to 16 bodies.
 DISPERSION_CONTRAST = 0.3
 
+#: The relative residual to which the Fourier preconditioner solves the cuboids' system of its filled periodic
+#: cell (:meth:`EquivalentInclusionProblem._inner_solve`), and its iterations at most. A glass sphere 20 cuboids
+#: across in a polymer, to 1e-7 from nothing: 22 GMRES iterations with the cell's inverse alone, 9 / 7 / 7 with
+#: the cell's system solved to 0.1 / 0.01 / 0.001 (3 / 5 / 8 inner iterations each).
+INNER_TOLERANCE = 1e-2
+INNER_ITERATIONS = 20
+#: Memory the inner solve's vectors may take [bytes] (two per iteration, 8 bytes per unknown).
+INNER_BYTES = 256 * 2**20
+
 #: Cuboids of matrix between the bodies' periodic images on the box's own lattice, along every axis, for the
 #: Fourier preconditioner to work there (:class:`FourierPreconditioner`, ``"own"``): a gap of 5 cost a carbide
 #: sphere 40 cuboids across one iteration in 12, one of 3.6 a small glass sphere 10 % more in a rolling run.
@@ -268,29 +277,37 @@ class FourierPreconditioner:
     (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11).
     """
 
-    def __init__(self, operator, contrast, matrix, lattice="padded"):
+    def __init__(self, operator, contrast, matrix, lattice="padded", forward=None):
         self.operator, self.lattice = operator, lattice
         direct, (first, second), parities = operator.infinite_spectra(lattice)
         unit = isotropic_mandel(1.0, operator.poisson)
         arguments = (direct, first, second, *parities, contrast @ np.linalg.inv(unit), matrix)
+        same = forward is not None and np.array_equal(forward, contrast)
+        forward_arguments = None if forward is None or same else \
+            (direct, first, second, *parities, forward @ np.linalg.inv(unit), matrix)
         n1, n2, n3 = operator.lattice_shape(lattice)
         # Reflected along x1 or x2, K(q) changes the signs of the components odd along that axis; when the
         # contrast and the matrix keep them (isotropic, or orthotropic along the axes), so do the inverses,
         # and a quarter of them is stored.
         reflections = [np.diag(p) for p in parities]
         symmetric = all(np.allclose(r @ c @ r, c, rtol=0.0, atol=1e-12 * np.abs(c).max())
-                        for r in reflections for c in (contrast, matrix))
+                        for r in reflections for c in (contrast, matrix) + (() if forward is None else (forward,)))
         rows, columns = ((np.arange(n1 // 2 + 1), np.arange(n2 // 2 + 1)) if symmetric
                          else (np.arange(n1), np.arange(n2)))
         self.parities = parities if symmetric else (np.ones(6), np.ones(6))
         self.matrices = np.empty((len(rows), len(columns), n3 // 2 + 1, 6, 6))
+        self.forward = None if forward is None else np.empty_like(self.matrices)
         for row in rows:        # a row at a time: no second array of the matrices' size
-            self.matrices[row] = np.linalg.inv(fourier_matrices(*arguments, n1, n2, rows=[row], columns=columns)[0])
+            matrices = fourier_matrices(*arguments, n1, n2, rows=[row], columns=columns)[0]
+            if forward is not None:
+                self.forward[row] = matrices if same else \
+                    fourier_matrices(*forward_arguments, n1, n2, rows=[row], columns=columns)[0]
+            self.matrices[row] = np.linalg.inv(matrices)
 
     @staticmethod
-    def fits(operator, stiffnesses, lattice="padded"):
-        """Whether the matrices for these inhomogeneities' stiffnesses (Mandel), and the transforms on the folded
-        lattice, take at most :data:`FOURIER_BYTES`."""
+    def fits(operator, stiffnesses, lattice="padded", forward=False):
+        """Whether the matrices for these inhomogeneities' stiffnesses (Mandel), twice as many with ``forward``, and
+        the transforms on the folded lattice, take at most :data:`FOURIER_BYTES`."""
         n1, n2, n3 = shape = operator.lattice_shape(lattice)
         isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
                         for p in operator.kernel_parities for c in stiffnesses)
@@ -298,13 +315,18 @@ class FourierPreconditioner:
         # the folded lattice's transforms count (a 128^3 box's: 272 MiB); the own lattice's, at most an eighth of the
         # product's lattice, were always taken (100 glass spheres at 8 cuboids per radius: 16 iterations, not 28)
         transforms = buffer_bytes(operator.shape, shape) if lattice == "folded" else 0
-        return rows * columns * (n3 // 2 + 1) * 36 * 8 + transforms <= FOURIER_BYTES
+        return rows * columns * (n3 // 2 + 1) * 36 * 8 * (2 if forward else 1) + transforms <= FOURIER_BYTES
 
     def __call__(self, field):
         """The preconditioned box field of a box field ``(m1, m2, m3, 6)`` (Mandel components)."""
-        passes = loops()
+        return self.apply(field)
+
+    def apply(self, field, forward=False):
+        """The box field ``(m1, m2, m3, 6)`` (Mandel components) times the inverse of the filled cell's operator,
+        or with ``forward`` (built with a ``forward`` contrast) times the cell's operator at that contrast."""
+        passes, matrices = loops(), self.forward if forward else self.matrices
         return self.operator.fourier(field, lambda spectra, k0, k1: passes.fourier_apply(
-            spectra, self.matrices, *self.parities, k0), lattice=self.lattice)
+            spectra, matrices, *self.parities, k0), lattice=self.lattice)
 
 
 @dataclass
@@ -378,6 +400,11 @@ class EquivalentInclusionProblem:
         # the contrast the Fourier preconditioner fills the box with: the bodies' own, or a dispersion's share
         self._share = 1.0 if len(self.stiffness) <= FOURIER_BODIES else DISPERSION_CONTRAST
         self.preconditioner = preconditioner
+        # the Fourier preconditioner solves the bodies' system in the filled periodic cell on their cuboids (the
+        # cell's operator, at the bodies' own contrast, kept beside the inverse); a nonlinear map, so the Krylov
+        # solver keeps its directions
+        self.inner = preconditioner == "fourier" and FourierPreconditioner.fits(operator, self.stiffness,
+                                                                                self._lattice, forward=True)
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
         self.recycled = RecycledSpace(6 * self.material.size)
@@ -507,9 +534,10 @@ class EquivalentInclusionProblem:
         box_bytes = 8 * 6 * int(np.prod(self.operator.shape))
         keep_images = RESTART * box_bytes <= IMAGES_BYTES
         recycling = self.recycled.kept > 0
+        flexible = recycling or self.inner     # a preconditioner that changes with its input: its directions kept
         # without recycling nothing needs the directions: within a cycle the preconditioner is one linear map, so
         # the step is M (V y) (plain right-preconditioned GMRES), and the basis alone is kept
-        per_iteration = 8 * self.size * (3 if recycling else 1) + (box_bytes if keep_images else 0)
+        per_iteration = 8 * self.size * (3 if flexible else 1) + (box_bytes if keep_images else 0)
         restart = max(4, min(RESTART, GMRES_BYTES // per_iteration))
         pending = None      # without the images: the steps whose strain D is not yet in ``disturbance``
         while beta > target and iterations < max_iterations:
@@ -527,7 +555,7 @@ class EquivalentInclusionProblem:
                 direction = self._precondition(basis[j], deflation)
                 image = self.operator.strain(self.box_field(direction.reshape(-1, 6)))
                 self.products += 1
-                if recycling:
+                if flexible:
                     directions.append(direction)
                 cells_image = image[self.cells] * MANDEL
                 if recycling:
@@ -559,7 +587,7 @@ class EquivalentInclusionProblem:
                 if abs(projected[j + 1]) <= target or length == 0.0:
                     break
             weights = solve_triangular(hessenberg[:used, :used], projected[:used])
-            if recycling:
+            if flexible:
                 step = np.zeros(self.size)     # (not weights @ np.array(...): a copy of all the directions)
                 for weight, direction in zip(weights, directions[:used]):
                     step += weight * direction
@@ -594,12 +622,60 @@ class EquivalentInclusionProblem:
         values = vector.reshape(-1, 6)
         if self.preconditioner == "local":
             return self.per_material(self._preconditioner, values).ravel()
-        if self._fourier is None:      # (the modulus it was built for, the preconditioner)
+        if self._fourier is None or (self.inner and self._fourier[1].forward is None):  # (its modulus, itself)
             self._fourier = (self.young, FourierPreconditioner(self.operator, self._share * self.contrast[0],
-                                                               self.matrix, lattice=self._lattice))
+                                                               self.matrix, lattice=self._lattice,
+                                                               forward=self.contrast[0] if self.inner else None))
+        if self.inner:
+            return self._inner_solve(values)
+        return self._filled(values)
+
+    def _filled(self, values, forward=False):
+        """The Fourier preconditioner's filled cell on values ``(N, 6)`` (Mandel) on the cuboids: its inverse, or its
+        operator with ``forward``; flat."""
         field = np.zeros((*self.operator.shape, 6))
         field[self.cells] = values
-        return self._fourier[1](field)[self.cells].ravel()
+        return self._fourier[1].apply(field, forward)[self.cells].ravel()
+
+    def _inner_solve(self, values):
+        """The bodies' system in the filled periodic cell, ``P F P x = v`` (``F`` the cell's operator filled with the
+        bodies' material, ``P`` the inhomogeneities' cuboids), solved to :data:`INNER_TOLERANCE` by GMRES
+        preconditioned by the cell's inverse (filled with a dispersion's share of the contrast,
+        :data:`DISPERSION_CONTRAST`), :data:`INNER_ITERATIONS` at most (fewer where their vectors would take
+        more than :data:`INNER_BYTES`).
+
+        The cell's inverse alone is exact for a plane wave but not for a smooth field confined to a stiff body (the
+        average over directions of the inverse where the body needs the inverse of the average: eigenvalues of
+        the preconditioned operator up to 8.5 for glass in a polymer, ``bench/preconditioner_spectrum.py``).
+        ``P F P`` is the bodies' own system in the infinite periodic medium (``F``'s Green operator is the
+        matrix's), less the mirror image and the surface correction: solved, it leaves eigenvalues within 1.2 of 1.
+        An iteration costs two transforms of the cell and no product.
+        """
+        right = values.ravel()
+        scale = np.linalg.norm(right)
+        if scale == 0.0:
+            return np.zeros_like(right)
+        size = max(1, min(INNER_ITERATIONS, INNER_BYTES // (16 * right.size)))
+        basis, directions = [right / scale], []
+        hessenberg = np.zeros((size + 1, size))
+        target = np.zeros(size + 1)
+        target[0] = scale
+        for j in range(size):
+            directions.append(self._filled(basis[j].reshape(-1, 6)))
+            w = self._filled(directions[j].reshape(-1, 6), forward=True)
+            for i, v in enumerate(basis):           # modified Gram-Schmidt
+                hessenberg[i, j] = v @ w
+                w -= hessenberg[i, j] * v
+            hessenberg[j + 1, j] = np.linalg.norm(w)
+            weights, *_ = np.linalg.lstsq(hessenberg[:j + 2, :j + 1], target[:j + 2], rcond=None)
+            rest = np.linalg.norm(hessenberg[:j + 2, :j + 1] @ weights - target[:j + 2])
+            if rest <= INNER_TOLERANCE * scale or hessenberg[j + 1, j] == 0.0:
+                break
+            basis.append(w / hessenberg[j + 1, j])
+        out = np.zeros_like(right)
+        for weight, direction in zip(weights, directions):
+            out += weight * direction
+        return out
 
     def _precondition(self, vector, deflation):
         """``M v``: the recycled directions' least-squares part, the preconditioner on the rest."""
