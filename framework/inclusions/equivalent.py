@@ -407,6 +407,7 @@ class EquivalentInclusionProblem:
                                                                                 self._lattice, forward=True)
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
+        self._field = self._flat = None     # the preconditioner's box field and the cuboids' flat indices in it
         self.recycled = RecycledSpace(6 * self.material.size)
         self.recycle = recycle
         self.products = 0           # eigenstrain-operator products so far
@@ -632,10 +633,13 @@ class EquivalentInclusionProblem:
 
     def _filled(self, values, forward=False):
         """The Fourier preconditioner's filled cell on values ``(N, 6)`` (Mandel) on the cuboids: its inverse, or its
-        operator with ``forward``; flat."""
-        field = np.zeros((*self.operator.shape, 6))
-        field[self.cells] = values
-        return self._fourier[1].apply(field, forward)[self.cells].ravel()
+        operator with ``forward``; flat. The box field they fill is kept (zero outside the cuboids), written and
+        read through the cuboids' flat indices."""
+        if self._field is None:
+            self._field = np.zeros((*self.operator.shape, 6))
+            self._flat = np.ravel_multi_index(self.cells, self.operator.shape)
+        self._field.reshape(-1, 6)[self._flat] = np.reshape(values, (-1, 6))
+        return self._fourier[1].apply(self._field, forward).reshape(-1, 6)[self._flat].ravel()
 
     def _inner_solve(self, values):
         """The bodies' system in the filled periodic cell, ``P F P x = v`` (``F`` the cell's operator filled with the
