@@ -36,7 +36,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import framework as fw  # noqa: E402
 from framework import inclusions, materials  # noqa: E402
 from framework.inclusions import equivalent  # noqa: E402
-from framework.inclusions.equivalent import MANDEL, isotropic_mandel, mandel_matrix  # noqa: E402
+from framework.inclusions.equivalent import MANDEL, isotropic_mandel  # noqa: E402
 from framework.inclusions.field import InclusionProblem, strain_vector  # noqa: E402
 from elastic_hertz import machine  # noqa: E402
 
@@ -44,38 +44,14 @@ MATRIX = materials.Elastic(2.25e9, 0.35)
 GLASS = materials.Elastic(70e9, 0.22)
 
 
-def plane_wave_strain(n, stiffness):
-    """``D(n)`` (Mandel, 6 x 6): the strain of a plane-wave eigenstrain along the unit vector ``n`` in an infinite
-    body of ``stiffness`` (3x3x3x3)."""
-    inverse = np.linalg.inv(np.einsum("i,ijkl,l->jk", n, stiffness, n))
-    green = 0.25 * (np.einsum("i,jk,l->ijkl", n, inverse, n) + np.einsum("j,ik,l->ijkl", n, inverse, n)
-                    + np.einsum("i,jl,k->ijkl", n, inverse, n) + np.einsum("j,il,k->ijkl", n, inverse, n))
-    return mandel_matrix(green) @ mandel_matrix(stiffness)
-
-
-def tensor(young, poisson):
-    lam, mu = young * poisson / ((1 + poisson) * (1 - 2 * poisson)), young / (2 * (1 + poisson))
-    d = np.eye(3)
-    return (lam * np.einsum("ij,kl->ijkl", d, d) + mu * (np.einsum("ik,jl->ijkl", d, d)
-                                                          + np.einsum("il,jk->ijkl", d, d)))
-
-
 def uniform_mode_estimate(contrasts, directions=4000, poisson=GLASS.poisson):
     """Eshelby's tensor ``S`` (Mandel) from the directions, and ``{contrast: sorted eigenvalues}`` of
-    ``[(C_I - C_M) S + C_M] <F(n)^-1>`` for a body of Poisson ratio ``poisson`` (the glass's) and Young's
-    modulus ``contrast`` times the matrix's (``directions`` on a Fibonacci sphere)."""
-    k = np.arange(directions) + 0.5
-    polar, azimuth = np.arccos(1 - 2 * k / directions), np.pi * (1 + 5 ** 0.5) * k
-    normals = np.stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar), np.cos(polar)], 1)
-    matrix = tensor(MATRIX.young, MATRIX.poisson)
-    waves = [plane_wave_strain(n, matrix) for n in normals]
-    eshelby = np.mean(waves, axis=0)
-    c_m = isotropic_mandel(MATRIX.young, MATRIX.poisson)
+    ``[(C_I - C_M) S + C_M] <F(n)^-1>`` (:func:`framework.inclusions.equivalent.filled_cell_estimate`) for a
+    body of Poisson ratio ``poisson`` (the glass's) and Young's modulus ``contrast`` times the matrix's."""
     out = {}
     for contrast in contrasts:
-        c_i = isotropic_mandel(contrast * MATRIX.young, poisson)
-        average = np.mean([np.linalg.inv((c_i - c_m) @ d + c_m) for d in waves], axis=0)
-        out[contrast] = np.sort(np.linalg.eigvals(((c_i - c_m) @ eshelby + c_m) @ average).real)
+        out[contrast], eshelby = equivalent.filled_cell_estimate(
+            isotropic_mandel(contrast * MATRIX.young, poisson), MATRIX.young, MATRIX.poisson, directions)
     return eshelby, out
 
 
