@@ -68,9 +68,12 @@ DISPERSION_CONTRAST = 0.3
 
 #: The relative residual to which the Fourier preconditioner solves the cuboids' system of its filled periodic
 #: cell (:meth:`EquivalentInclusionProblem._inner_solve`), and its iterations at most. A glass sphere 20 cuboids
-#: across in a polymer, to 1e-7 from nothing: 22 GMRES iterations with the cell's inverse alone, 9 / 7 / 7 with
-#: the cell's system solved to 0.1 / 0.01 / 0.001 (3 / 5 / 8 inner iterations each).
-INNER_TOLERANCE = 1e-2
+#: across in a polymer (bench/rolling_inclusion.py's), to 1e-7 from nothing: 22 GMRES iterations with the cell's
+#: inverse alone, 10 / 8 / 7 / 7 with the cell's system solved to 0.3 / 0.1 / 0.03 / 0.01; that bench's rolling
+#: steps 9.0 / 7.4 / 7.4 / 7.25 products, 0.61 / 0.57 / 0.58 / 0.63 s (4.9 / 7.5 / 11 / 14 transforms of the cell
+#: a solve); 100 glass spheres at 4 cuboids per radius (bench/dispersion.py) 7.8 and 7.4 products a step at 0.1
+#: and 0.01, 5.7 and 6.6 s.
+INNER_TOLERANCE = 0.1
 INNER_ITERATIONS = 20
 #: The inner solve is used where :func:`filled_cell_estimate` (the filled cell's inverse alone on a sphere's uniform
 #: modes) reaches this: a contrast of about 5.5 (a stiff body) or 0.15 (a soft one). Below it the inverse alone is
@@ -311,6 +314,11 @@ class FourierPreconditioner:
     :class:`EquivalentInclusionProblem` uses it only where they stay :data:`OWN_LATTICE_GAP` cuboids apart,
     and elsewhere ``"folded"``, the box grown by :data:`~framework.operators.eigenstrain.FOLDED_GAP` cuboids
     (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11).
+
+    The inverse alone leaves a stiff (or soft) body's smooth modes far from 1 (:func:`filled_cell_estimate`):
+    where that estimate reaches :data:`INNER_FROM`, :class:`EquivalentInclusionProblem` keeps the cell's operator
+    too (``forward``, at the bodies' own contrast) and solves the bodies' system in the cell on their cuboids
+    (:meth:`EquivalentInclusionProblem._inner_solve`).
     """
 
     def __init__(self, operator, contrast, matrix, lattice="padded", forward=None):
