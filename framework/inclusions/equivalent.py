@@ -135,7 +135,8 @@ def filled_cell_estimate(stiffness, young, poisson, directions=1000):
     n = np.stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar), np.cos(polar)], axis=1)
     lam, mu = young * poisson / ((1 + poisson) * (1 - 2 * poisson)), young / (2 * (1 + poisson))
     d = np.eye(3)
-    tensor = lam * np.einsum("ij,kl->ijkl", d, d) + mu * (np.einsum("ik,jl->ijkl", d, d) + np.einsum("il,jk->ijkl", d, d))
+    tensor = (lam * np.einsum("ij,kl->ijkl", d, d)
+              + mu * (np.einsum("ik,jl->ijkl", d, d) + np.einsum("il,jk->ijkl", d, d)))
     inverse = np.linalg.inv(np.einsum("mi,ijkl,ml->mjk", n, tensor, n))
     green = 0.25 * (np.einsum("mi,mjk,ml->mijkl", n, inverse, n) + np.einsum("mj,mik,ml->mijkl", n, inverse, n)
                     + np.einsum("mi,mjl,mk->mijkl", n, inverse, n) + np.einsum("mj,mil,mk->mijkl", n, inverse, n))
@@ -447,9 +448,10 @@ class EquivalentInclusionProblem:
         # where the filled cell's inverse alone leaves a body's smooth modes far from 1 (a high contrast), the Fourier
         # preconditioner solves the bodies' system in that cell on their cuboids (the cell's operator, at their own
         # contrast, kept beside the inverse); a nonlinear map, so the Krylov solver keeps its directions
-        self.inner = (preconditioner == "fourier" and len(self.cells[0]) > 0
-                      and filled_cell_estimate(self.stiffness[0], young, operator.poisson, 200)[0].max() >= INNER_FROM
-                      and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
+        estimate = filled_cell_estimate(self.stiffness[0], young, operator.poisson, 200)[0] \
+            if preconditioner == "fourier" and len(self.cells[0]) > 0 else np.zeros(1)
+        self.inner = bool(estimate.max() >= INNER_FROM
+                          and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
         self._field = self._flat = None     # the preconditioner's box field and the cuboids' flat indices in it
