@@ -101,9 +101,10 @@ def test_slice_pictures_draw_the_inhomogeneity_where_the_material_carried_it(sti
 @pytest.mark.slow
 @pytest.mark.parametrize("young, poisson, inner", [(600e9, 0.22, False), (20e9, 0.3, True)])
 def test_resume_puts_the_inhomogeneity_where_the_material_had_carried_it(tmp_path, stop_after, young, poisson, inner):
-    """A rolling run over an inhomogeneity, stopped after 3 steps and resumed: equal to the whole run. A carbide
-    body (contrast 3: the filled cell's inverse alone preconditions) and a soft one (contrast 0.1: the
-    preconditioner solves the body's system in its filled cell, a map that changes with its input)."""
+    """A rolling run over an inhomogeneity, stopped after 3 steps and resumed: equal to the whole run, bit for bit.
+    A carbide body (contrast 3, its box on the folded lattice: the filled cell's inverse alone preconditions) and a
+    soft one (contrast 0.1: the preconditioner solves the body's system in its filled cell, a map that changes
+    with its input)."""
     def simulation():
         grid = fw.Grid(shape=(64, 28), size=(64 * CELL, 28 * CELL), depth=0.3e-3, layers=12)
         body = [inclusions.Ellipsoid(center=(0.2e-3, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3,

@@ -75,10 +75,13 @@ DISPERSION_CONTRAST = 0.3
 #: and 0.01, 5.7 and 6.6 s.
 INNER_TOLERANCE = 0.1
 INNER_ITERATIONS = 20
-#: The inner solve is used where :func:`filled_cell_estimate` (the filled cell's inverse alone on a sphere's uniform
-#: modes) reaches this: a contrast of about 5.5 (a stiff body) or 0.15 (a soft one). Below it the inverse alone is
-#: good enough that the inner iterations cost more than the products they save: a carbide sphere filling a 64^3
-#: box in steel (estimate 1.3), 11 iterations with the inner solve against 12, but 5.7-5.9 s against 4.2.
+#: The inner solve is used on the box's own lattice (the cell as large as the box: an inner iteration costs a tenth
+#: of a product or less), and on the folded one (bodies filling their box: the cell nearly as large as a product's,
+#: the images close) where :func:`filled_cell_estimate` (the filled cell's inverse alone on a sphere's uniform modes)
+#: reaches this: a contrast of about 5.5 (a stiff body) or 0.15 (a soft one). A sphere 20 cuboids across in a 30^3
+#: box, to 1e-8, own lattice: contrast 3 8 -> 6 iterations (0.30 -> 0.24 s), 10 13 -> 7, 31 23 -> 8 (0.68 -> 0.36
+#: s). Filling its box, folded lattice, to 1e-10: 32^3, contrast 3 12 -> 11 (0.45 -> 0.48 s), 10 22 -> 13 (0.81 ->
+#: 1.15 s), 31 62 -> 17 (3.1 -> 3.5 s); carbide in steel on 64^3 (estimate 1.3) 12 -> 11 but 4.2 -> 5.7-5.9 s.
 INNER_FROM = 2.0
 #: Memory the inner solve's vectors may take [bytes] (two per iteration, 8 bytes per unknown).
 INNER_BYTES = 256 * 2**20
@@ -316,10 +319,10 @@ class FourierPreconditioner:
     and elsewhere ``"folded"``, the box grown by :data:`~framework.operators.eigenstrain.FOLDED_GAP` cuboids
     (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11).
 
-    The inverse alone leaves a stiff (or soft) body's smooth modes far from 1 (:func:`filled_cell_estimate`):
-    where that estimate reaches :data:`INNER_FROM`, :class:`EquivalentInclusionProblem` keeps the cell's operator
-    too (``forward``, at the bodies' own contrast) and solves the bodies' system in the cell on their cuboids
-    (:meth:`EquivalentInclusionProblem._inner_solve`).
+    The inverse alone leaves a stiff (or soft) body's smooth modes far from 1 (:func:`filled_cell_estimate`): on
+    the own lattice, and on the folded one where that estimate reaches :data:`INNER_FROM`,
+    :class:`EquivalentInclusionProblem` keeps the cell's operator too (``forward``, at the bodies' own contrast) and
+    solves the bodies' system in the cell on their cuboids (:meth:`EquivalentInclusionProblem._inner_solve`).
     """
 
     def __init__(self, operator, contrast, matrix, lattice="padded", forward=None):
@@ -445,12 +448,13 @@ class EquivalentInclusionProblem:
         # the contrast the Fourier preconditioner fills the box with: the bodies' own, or a dispersion's share
         self._share = 1.0 if len(self.stiffness) <= FOURIER_BODIES else DISPERSION_CONTRAST
         self.preconditioner = preconditioner
-        # where the filled cell's inverse alone leaves a body's smooth modes far from 1 (a high contrast), the Fourier
-        # preconditioner solves the bodies' system in that cell on their cuboids (the cell's operator, at their own
-        # contrast, kept beside the inverse); a nonlinear map, so the Krylov solver keeps its directions
+        # on the box's own lattice, or where the filled cell's inverse alone leaves a body's smooth modes far from 1
+        # (INNER_FROM), the Fourier preconditioner solves the bodies' system in that cell on their cuboids (the cell's
+        # operator, at their own contrast, kept beside the inverse); a nonlinear map: the Krylov solver keeps its
+        # directions
         estimate = filled_cell_estimate(self.stiffness[0], young, operator.poisson, 200)[0] \
             if preconditioner == "fourier" and len(self.cells[0]) > 0 else np.zeros(1)
-        self.inner = bool(estimate.max() >= INNER_FROM
+        self.inner = bool((estimate.max() >= INNER_FROM or (estimate.max() > 0.0 and self._lattice == "own"))
                           and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
