@@ -143,7 +143,7 @@ def filled_cell_estimate(stiffness, young, poisson, directions=1000):
     inverse = np.linalg.inv(np.einsum("mi,ijkl,ml->mjk", n, tensor, n))
     green = 0.25 * (np.einsum("mi,mjk,ml->mijkl", n, inverse, n) + np.einsum("mj,mik,ml->mijkl", n, inverse, n)
                     + np.einsum("mi,mjl,mk->mijkl", n, inverse, n) + np.einsum("mj,mil,mk->mijkl", n, inverse, n))
-    rows = np.array([pair for pair in COMPONENTS])
+    rows = np.array(COMPONENTS)
     mandel = green[:, rows[:, 0], rows[:, 1]][:, :, rows[:, 0], rows[:, 1]] * np.outer(MANDEL, MANDEL)
     matrix = mandel_matrix(tensor)
     plane = mandel @ matrix                                         # D(n), (directions, 6, 6)
