@@ -58,8 +58,9 @@ beads 50 +- 12 / 49 +- 1 MPa, aligned fibres 49 +- 7 / 44 +- 10, random fibres 8
 tip under the contact, 183 and 167 MPa), against 10.9-13.0 MPa homogenised; in the matrix alone 21-27 MPa.
 
 ``--quick``: beads only, 0 and 10 %, seed 1, 8 steps (window 4), for the tests. Measured on the 2-core AMD EPYC
-(one thread, other work running): the default run 548 s (9.1 min; a filled run 16-54 s, the homogenised ones
-0.3 s), ``--quick`` 24 s; the total is printed at the end.
+(one thread): the default run 244 s (4.1 min; a filled run 9-17 s, the homogenised ones 0.2-0.3 s; 548 s with
+other work running before the preconditioner solved the bodies' system in its filled cell), ``--quick`` 24 s
+then; the total is printed at the end.
 """
 import argparse
 import os
