@@ -25,6 +25,7 @@ import numpy as np
 from scipy.linalg import solve_triangular
 
 from ..errors import ConvergenceError, ParameterError, ShapeError
+from ..materials import isotropic_tensor
 from ..operators._box_loops import fourier_matrices, loops
 from ..operators.box_fft import buffer_bytes
 from ..operators.eigenstrain import COMPONENTS, MANDEL, padded_shape, cuboid_potentials, strain_from_potentials
@@ -136,10 +137,7 @@ def filled_cell_estimate(stiffness, young, poisson, directions=1000):
     k = np.arange(directions) + 0.5
     polar, azimuth = np.arccos(1 - 2 * k / directions), np.pi * (1 + 5 ** 0.5) * k
     n = np.stack([np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar), np.cos(polar)], axis=1)
-    lam, mu = young * poisson / ((1 + poisson) * (1 - 2 * poisson)), young / (2 * (1 + poisson))
-    d = np.eye(3)
-    tensor = (lam * np.einsum("ij,kl->ijkl", d, d)
-              + mu * (np.einsum("ik,jl->ijkl", d, d) + np.einsum("il,jk->ijkl", d, d)))
+    tensor = isotropic_tensor(young, poisson)
     inverse = np.linalg.inv(np.einsum("mi,ijkl,ml->mjk", n, tensor, n))
     green = 0.25 * (np.einsum("mi,mjk,ml->mijkl", n, inverse, n) + np.einsum("mj,mik,ml->mijkl", n, inverse, n)
                     + np.einsum("mi,mjl,mk->mijkl", n, inverse, n) + np.einsum("mj,mil,mk->mijkl", n, inverse, n))
