@@ -74,9 +74,9 @@ def main():
         inner.inner = solved
         counts = [inner.solve(strain_vector(np.diag([1e-3, 0.0, 0.0]), name="a"), tolerance=t).iterations
                   for t in (1e-4, 1e-7, 1e-10)]
-        print(f"1. GMRES iterations to 1e-4 / 1e-7 / 1e-10, " + ("the filled cell's system solved on the body "
-              "(the default)" if solved else "the filled cell's inverse alone") + f": {counts[0]} / {counts[1]} / "
-              f"{counts[2]}")
+        how = "the filled cell's system solved on the body (the default)" if solved else \
+            "the filled cell's inverse alone"
+        print(f"1. GMRES iterations to 1e-4 / 1e-7 / 1e-10, {how}: {counts[0]} / {counts[1]} / {counts[2]}")
 
     from scipy.sparse.linalg import LinearOperator, eigs
 
