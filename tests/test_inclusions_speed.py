@@ -192,8 +192,9 @@ def test_a_large_boxs_gmres_keeps_only_its_basis(monkeypatch, recycling):
 @pytest.mark.parametrize("inner", [True, False])
 def test_recycled_directions_shorten_a_sequence_of_similar_solves(inner):
     """Right-hand sides that change a little from solve to solve (a load moving over the body): the directions
-    kept from the earlier solves cut the later ones' products: 9, 8, 7, 6, 5, 4 with the filled cell's system
-    solved on the body (the default), 23, 20, 17, 16, 14, 12 with its inverse alone."""
+    kept from the earlier solves cut the later ones' products: 9, 8, 7, 6, 5, 5 with the filled cell's system
+    solved on the body (the default; 9, 8, 7, 6, 5, 4 with the kernels' values by numpy's forms, which differ by
+    4e-15: the last solve's fourth residual sits at the tolerance), 23, 20, 17, 16, 14, 12 with its inverse alone."""
     problem = stiff_sphere_problem()
     problem.inner = inner
     cells = np.array(problem.cells).T
@@ -206,7 +207,7 @@ def test_recycled_directions_shorten_a_sequence_of_similar_solves(inner):
         assert success and residual <= 1e-9
         products.append(problem.products - before)
     assert products[0] >= (8 if inner else 18) and products[0] <= (12 if inner else 30)
-    assert max(products[3:]) <= 0.75 * products[0] and products[-1] <= 0.55 * products[0]
+    assert max(products[3:]) <= 0.75 * products[0] and products[-1] <= 0.6 * products[0]
     snapshot = problem.recycled.snapshot()
     again = equivalent.RecycledSpace(problem.size)
     again.restore(snapshot)
@@ -379,17 +380,24 @@ def test_folded_kernels_are_the_padded_kernels_summed_over_the_periods(lattice):
         assert np.abs(got - expected).max() <= 1e-12 * np.abs(expected).max()
 
 
-def test_compiled_closed_forms_give_the_kernels_of_the_numpy_ones(monkeypatch):
-    """The kernels' lattices evaluated by the compiled closed forms (numba ufuncs of the same source, used from
-    COMPILED_LATTICE_POINTS points: here from any size) equal the numpy forms' to 1e-12 of their largest value
-    (measured 1.4e-13 and 2.4e-13 on a 64^3 box, where psi_four's terms cancel)."""
+@pytest.mark.parametrize("path", ["keys together", "one key at a time"])
+def test_compiled_closed_forms_give_the_kernels_of_the_numpy_ones(monkeypatch, path):
+    """The kernels' lattices evaluated compiled equal the numpy forms' to 1e-12 of their largest value: the loop
+    over all 21 keys at once (compiled_lattice, from COMPILED_LATTICE_POINTS points while their values fit in
+    LATTICE_KEYS_BYTES) and the numba ufuncs one key at a time (lattice_forms, larger lattices from
+    COMPILED_FORMS_POINTS); here both from any size (measured 4e-15 and 1.4e-13 on a 64^3 box's lattices)."""
     pytest.importorskip("numba")
     from framework.operators import eigenstrain
+    together = path == "keys together"
     monkeypatch.setattr(eigenstrain, "COMPILED_LATTICE_POINTS", 0)
+    monkeypatch.setattr(eigenstrain, "COMPILED_FORMS_POINTS", 0)
+    if not together:
+        monkeypatch.setattr(eigenstrain, "LATTICE_KEYS_BYTES", 0)
     grid = fw.Grid(shape=(16, 14), size=(16e-6, 14e-6), depth=12e-6, layers=12)
     spectra = {}
     for flag in (True, False):
         with _fused.use_compiled(flag):
+            assert (eigenstrain.compiled_lattice(1000) is not None) is (flag and together)
             assert (eigenstrain.lattice_forms(1) is eigenstrain.CORNER_FORMS) is not flag
             operator = HalfSpaceEigenstrain(grid, 0.3, (2, 1, 1), (11, 9, 10))
             spectra[flag] = (operator._direct, operator._mirror)

@@ -123,20 +123,94 @@ def _sum_r_one(t, r, rest2):
     return r + t if t >= 0 else rest2 / (r - t)
 
 
-#: Lattices of at least this many points evaluate the closed forms compiled (:func:`lattice_forms`): loading
-#: them from numba's cache takes 0.5-0.8 s once a process, which a 30^3 box's kernels (0.9 s by numpy, 1.3 s
-#: so) do not repay and a 64^3 box's do (4.4 -> 2.9 s, 2.2 s once loaded).
-COMPILED_LATTICE_POINTS = 2 ** 18
+def _lattice_keys(faces1, faces2, faces3, shifts, weights, out):
+    """``out[n, a, b, c] = sum_p weights[p] D H_n(t_p)``, ``t_p = (faces1[a], faces2[b], faces3[c]) + shifts[p]``: the
+    21 corner functions of :data:`KEYS` (in order, each with its :func:`corner_case`'s form and axes) over a lattice
+    and an averaging rule, in one pass. Compiled by :func:`compiled_lattice` (the forms and their ``_sum_r`` bound to
+    one-value versions there), not called as Python: the keys share their point's offsets, its length and the
+    forms' six transcendental values (three arctangents, three logarithms), which the compiler computes once
+    where the 21 forms would compute them 15 times."""
+    for a in range(out.shape[1]):
+        for b in range(out.shape[2]):
+            for c in range(out.shape[3]):
+                s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = s10 = 0.0
+                s11 = s12 = s13 = s14 = s15 = s16 = s17 = s18 = s19 = s20 = 0.0
+                for p in range(weights.shape[0]):
+                    weight = weights[p]
+                    t0, t1, t2 = faces1[a] + shifts[p, 0], faces2[b] + shifts[p, 1], faces3[c] + shifts[p, 2]
+                    r = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+                    s0 += weight * _phi_diagonal(t0, t1, t2, r)
+                    s1 += weight * _phi_mixed(t0, t1, t2, r)
+                    s2 += weight * _phi_mixed(t0, t2, t1, r)
+                    s3 += weight * _phi_diagonal(t1, t0, t2, r)
+                    s4 += weight * _phi_mixed(t1, t2, t0, r)
+                    s5 += weight * _phi_diagonal(t2, t0, t1, r)
+                    s6 += weight * _psi_four(t0, t1, t2, r)
+                    s7 += weight * _psi_three_one(t0, t1, t2, r)
+                    s8 += weight * _psi_three_one(t0, t2, t1, r)
+                    s9 += weight * _psi_two_two(t0, t1, t2, r)
+                    s10 += weight * _psi_two_one_one(t0, t1, t2, r)
+                    s11 += weight * _psi_two_two(t0, t2, t1, r)
+                    s12 += weight * _psi_three_one(t1, t0, t2, r)
+                    s13 += weight * _psi_two_one_one(t1, t0, t2, r)
+                    s14 += weight * _psi_two_one_one(t2, t0, t1, r)
+                    s15 += weight * _psi_three_one(t2, t0, t1, r)
+                    s16 += weight * _psi_four(t1, t0, t2, r)
+                    s17 += weight * _psi_three_one(t1, t2, t0, r)
+                    s18 += weight * _psi_two_two(t1, t2, t0, r)
+                    s19 += weight * _psi_three_one(t2, t1, t0, r)
+                    s20 += weight * _psi_four(t2, t0, t1, r)
+                out[0, a, b, c] = s0; out[1, a, b, c] = s1; out[2, a, b, c] = s2
+                out[3, a, b, c] = s3; out[4, a, b, c] = s4; out[5, a, b, c] = s5
+                out[6, a, b, c] = s6; out[7, a, b, c] = s7; out[8, a, b, c] = s8
+                out[9, a, b, c] = s9; out[10, a, b, c] = s10; out[11, a, b, c] = s11
+                out[12, a, b, c] = s12; out[13, a, b, c] = s13; out[14, a, b, c] = s14
+                out[15, a, b, c] = s15; out[16, a, b, c] = s16; out[17, a, b, c] = s17
+                out[18, a, b, c] = s18; out[19, a, b, c] = s19; out[20, a, b, c] = s20
+
+
+#: Lattices of at least this many points evaluate the closed forms compiled, all keys at once
+#: (:func:`compiled_lattice`) where their values take at most :data:`LATTICE_KEYS_BYTES`, else one key at a time
+#: (:func:`lattice_forms`). Loading the first from numba's cache takes 0.2 s once a process, the second 0.6 s.
+#: A 64^3 box's build 2.4-2.9 -> 1.75-1.95 s (its kernels' values 0.6 s + 0.8 s -> 0.2 s + 0.5 s), the rolling
+#: bench's 30^3 box 0.86-1.2 -> 0.71-0.73 s (numpy's forms before).
+COMPILED_LATTICE_POINTS = 2 ** 12
+#: Memory the 21 keys' values on a lattice may take when computed together [bytes] (the kernels of a box up to
+#: about 70^3); a larger lattice is computed one key at a time (the build of a 128^3 box holds one key's lattice).
+LATTICE_KEYS_BYTES = 128 * 2**20
+#: Lattices of at least this many points evaluated one key at a time use the compiled forms (:func:`lattice_forms`).
+COMPILED_FORMS_POINTS = 2 ** 18
+
+
+def compiled_lattice(points=None):
+    """:func:`_lattice_keys` compiled by numba, for a lattice of ``points`` points, when numba is installed and
+    allowed, the lattice has :data:`COMPILED_LATTICE_POINTS` points or more and its 21 keys' values take at most
+    :data:`LATTICE_KEYS_BYTES` (or ``points`` is None); else None (:func:`lattice_forms`, one key at a time). The
+    loop evaluates the source of :data:`CORNER_FORMS` one value at a time and agrees with the numpy forms to
+    rounding (4e-15 of a key's largest value on a 64^3 box's lattice)."""
+    from .. import _fused
+    if not (_fused._compiled and _fused.numba_available() and (
+            points is None or COMPILED_LATTICE_POINTS <= points <= LATTICE_KEYS_BYTES // (8 * len(KEYS)))):
+        return None
+    if "lattice_keys" not in _fused._cache:
+        import types
+        numba = _fused._cache["numba"]
+        scalar = {**globals(), "_sum_r": numba.njit(_sum_r_one, cache=True)}
+        forms = {form.__name__: numba.njit(types.FunctionType(form.__code__, scalar, form.__name__), cache=True)
+                 for form in CORNER_FORMS.values()}
+        _fused._cache["lattice_keys"] = numba.njit(
+            types.FunctionType(_lattice_keys.__code__, {**globals(), **forms}, "_lattice_keys"), cache=True, nogil=True)
+    return _fused._cache["lattice_keys"]
 
 
 def lattice_forms(points=None):
-    """The closed forms of :data:`CORNER_FORMS` for a lattice of ``points`` points: numba ufuncs of the same
-    source (their ``_sum_r`` one value at a time: no temporary arrays), three times faster on large lattices,
-    when numba is installed and allowed and the lattice has :data:`COMPILED_LATTICE_POINTS` points or more
-    (or ``points`` is None); else the numpy forms. They agree to rounding (1e-13 of the kernels' largest
-    value where ``psi_four``'s terms cancel)."""
+    """The closed forms of :data:`CORNER_FORMS` for a lattice of ``points`` points evaluated one key at a time:
+    numba ufuncs of the same source (their ``_sum_r`` one value at a time: no temporary arrays), three times
+    faster on large lattices, when numba is installed and allowed and the lattice has
+    :data:`COMPILED_FORMS_POINTS` points or more (or ``points`` is None); else the numpy forms. They agree to
+    rounding (1e-13 of the kernels' largest value where ``psi_four``'s terms cancel)."""
     from .. import _fused
-    if not (_fused._compiled and (points is None or points >= COMPILED_LATTICE_POINTS) and _fused.numba_available()):
+    if not (_fused._compiled and (points is None or points >= COMPILED_FORMS_POINTS) and _fused.numba_available()):
         return CORNER_FORMS
     if "lattice_forms" not in _fused._cache:
         import types
@@ -175,9 +249,17 @@ def cell_average_rule(cell, points=None):
 
 
 def potential_kernel_items(faces1, faces2, faces3, cell=None):
-    """:func:`potential_kernels` one key at a time, ``(key, array)``: a few lattice arrays in memory (the
-    offsets' lengths at each point of the averaging rule, and the key's sum)."""
+    """:func:`potential_kernels` one key at a time, ``(key, array)``: the keys computed together by the compiled loop
+    (:func:`compiled_lattice`) where it serves, else a few lattice arrays in memory (the offsets' lengths at each
+    point of the averaging rule, and the key's sum)."""
     shape = (len(faces1), len(faces2), len(faces3))
+    loop = compiled_lattice(int(np.prod(shape)))
+    if loop is not None:
+        values = np.empty((len(KEYS), *shape))
+        loop(*(np.asarray(f, dtype=float) for f in (faces1, faces2, faces3)), *cell_average_rule(cell), values)
+        for key, total in zip(KEYS, values):
+            yield key, np.diff(np.diff(np.diff(total, axis=0), axis=1), axis=2)
+        return
     rule = []           # per point of the rule: its weight, the offsets and their lengths (shared by the keys)
     for shift, weight in zip(*cell_average_rule(cell)):
         t = [np.broadcast_to(c, shape) for c in np.meshgrid(faces1 + shift[0], faces2 + shift[1], faces3 + shift[2],
