@@ -32,8 +32,10 @@ class Options:
         eigenstrains' fields (the eigenstrain operators' box); None: half the
         largest semi-axis.
     coupling_tolerance : float
-        Relative change of the inhomogeneities' surface displacement at which a
-        step's contact and eigenstrains count as converged together.
+        Relative distance of the inhomogeneities' surface displacement from the
+        step's fixed point (its last change, or that change times the iteration's
+        contraction) at which a step's contact and eigenstrains count as
+        converged together.
     max_couplings : int or None
         Coupling iterations (one eigenstrain-operator product each) a step over
         inhomogeneities may take before it raises ConvergenceError; None: 100.
