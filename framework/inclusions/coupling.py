@@ -153,7 +153,7 @@ class ContactCoupling:
         (``(N, 6)``, tensor shears)."""
         problem, nu = self.problem, self.problem.matrix.poisson
         inner = problem.problem
-        contact_stress = problem.operator.pressure_stress(pressure)[inner.cells]
+        contact_stress = inner.on_cells(problem.operator.pressure_stress(pressure))
         creep = self._compliance * contact_stress
         if self._creep_history is not None:
             creep = creep + self._creep_history
@@ -213,7 +213,7 @@ class ContactCoupling:
         # memory of a rolling run over a dispersion (2.6 M box cuboids: 21 x 127 MB)
         whole = (ANDERSON_DEPTH + 1) * 8 * int(np.prod(shape)) <= ANDERSON_BYTES
         if not whole:
-            disturbance = disturbance[inner.cells] * MANDEL
+            disturbance = inner.on_cells(disturbance) * MANDEL
         history = []            # (G, D[G], B G, f) of the last iterates
         directions, strains = [], []
         previous = last_relative = None
@@ -232,7 +232,7 @@ class ContactCoupling:
             if relative <= self.inclusion_tolerance and (distance <= self.tolerance or relative == 0.0):
                 inner.recycled.add(directions, strains, inner._image, inner.young)
                 eigenstrain = values / MANDEL
-                strain = disturbance[inner.cells] if whole else disturbance / MANDEL
+                strain = inner.on_cells(disturbance) if whole else disturbance / MANDEL
                 stress, field = self._outputs(eigenstrain, strain, strain0)
                 self.eigenstrain, self.displacement = eigenstrain, displacement
                 self.disturbance = disturbance if whole else None
@@ -245,7 +245,7 @@ class ContactCoupling:
             image, moved = operator.strain(inner.box_field(correction.reshape(-1, 6)), displacement=True)
             inner.products += 1
             directions.append(correction)
-            strains.append(image[inner.cells] * MANDEL)
+            strains.append(inner.on_cells(image) * MANDEL)
             # the recycled space keeps at most its own count of them: a large dispersion's (4 of its 22 a step at
             # 0.2 M cuboids) would otherwise hold every iteration's pair until the step ends (440 MB there)
             surplus = len(directions) - inner.recycled.kept

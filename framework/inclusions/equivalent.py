@@ -433,6 +433,9 @@ class EquivalentInclusionProblem:
         self.operator = operator
         self.indicator = indicator
         self.cells = np.nonzero(indicator)
+        # the cuboids' flat indices in a box field's (m1 m2 m3, 6) rows: gathers and scatters by them take a
+        # quarter of the time of the index tuple's (a 64^3 box's 137 376 cuboids: 0.3 against 2.8 ms)
+        self._flat = np.ravel_multi_index(self.cells, operator.shape)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
         self._lattice = periodic_cell(operator.shape, self.cells)
@@ -456,7 +459,7 @@ class EquivalentInclusionProblem:
                           and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
-        self._field = self._flat = None     # the preconditioner's box field and the cuboids' flat indices in it
+        self._field = None          # the preconditioner's box field
         self.recycled = RecycledSpace(6 * self.material.size)
         self.recycle = recycle
         self.products = 0           # eigenstrain-operator products so far
@@ -494,12 +497,16 @@ class EquivalentInclusionProblem:
     def box_field(self, values):
         """Tensor-shear box field ``(m1, m2, m3, 6)`` of Mandel values ``(N, 6)`` on the inhomogeneities' cuboids."""
         field = np.zeros((*self.operator.shape, 6))
-        field[self.cells] = values / MANDEL
+        field.reshape(-1, 6)[self._flat] = np.reshape(values, (-1, 6)) / MANDEL
         return field
+
+    def on_cells(self, field):
+        """The values ``(N, 6)`` of a box field ``(m1, m2, m3, 6)`` on the inhomogeneities' cuboids."""
+        return np.take(np.reshape(field, (-1, 6)), self._flat, axis=0)
 
     def _apply(self, values, disturbance):
         """``A x`` (Mandel, ``(N, 6)``) of the values ``x`` whose strain ``D[x]`` (box field) is known."""
-        return self._image(values, disturbance[self.cells] * MANDEL).reshape(-1, 6)
+        return self._image(values, self.on_cells(disturbance) * MANDEL).reshape(-1, 6)
 
     def _image(self, values, strains):
         """``A x`` as a flat vector, from ``x`` and its strain ``D[x]`` on the cuboids (both Mandel, any shape)."""
@@ -524,7 +531,7 @@ class EquivalentInclusionProblem:
         """
         shape = (*self.operator.shape, 6)
         applied = np.broadcast_to(np.asarray(applied_strain, dtype=float), shape)
-        right = -self.per_material(self.contrast, applied[self.cells] * MANDEL)
+        right = -self.per_material(self.contrast, self.on_cells(applied) * MANDEL)
         eigenstrain, disturbance, iterations, residual, success = self.solve_for(
             right, initial=initial, tolerance=tolerance, max_iterations=max_iterations,
             raise_on_failure=raise_on_failure)
@@ -547,7 +554,7 @@ class EquivalentInclusionProblem:
         values = np.zeros((self.material.size, 6))
         disturbance = np.zeros(shape)
         if initial is not None:
-            values = np.asarray(initial, dtype=float)[self.cells] * MANDEL
+            values = self.on_cells(np.asarray(initial, dtype=float)) * MANDEL
             if initial_disturbance is None:
                 disturbance = self.operator.strain(self.box_field(values))
                 self.products += 1
@@ -607,7 +614,7 @@ class EquivalentInclusionProblem:
                 self.products += 1
                 if flexible:
                     directions.append(direction)
-                cells_image = image[self.cells] * MANDEL
+                cells_image = self.on_cells(image) * MANDEL
                 if recycling:
                     cells_images.append(cells_image)
                 if keep_images:
@@ -686,7 +693,6 @@ class EquivalentInclusionProblem:
         read through the cuboids' flat indices."""
         if self._field is None:
             self._field = np.zeros((*self.operator.shape, 6))
-            self._flat = np.ravel_multi_index(self.cells, self.operator.shape)
         self._field.reshape(-1, 6)[self._flat] = np.reshape(values, (-1, 6))
         return self._fourier[1].apply(self._field, forward).reshape(-1, 6)[self._flat].ravel()
 
