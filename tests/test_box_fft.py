@@ -47,6 +47,41 @@ def test_pruned_transforms_equal_the_whole_lattices(shape, fft_shape, blocks):
     assert np.array_equal(again, out)
 
 
+@pytest.mark.parametrize("shape, fft_shape, blocks, target_shape, place", [
+    ((5, 6, 7), (22, 20, 18), 1, (12, 11, 9), (4, 2, 1)),      # a grid around the box, the spectra at once
+    ((5, 6, 7), (22, 20, 18), 3, (12, 11, 9), (7, 5, 2)),      # several blocks of q3, the box elsewhere
+    ((3, 4, 2), (15, 14, 9), 2, (8, 9, 6), (0, 5, 4)),         # odd lattice sizes, the box at the grid's edges
+])
+def test_pruned_transforms_onto_a_target_equal_the_whole_lattices(shape, fft_shape, blocks, target_shape, place):
+    """``target``: the result on other points of the lattice than the box's (EigenstrainField's grid around its box:
+    the lattice's indices ``(i - place) mod N`` of each axis), the same as numpy's whole-lattice transforms taken
+    there, to 1e-14; the box's own product afterwards as before."""
+    rng = np.random.default_rng(2)
+    field = rng.normal(size=(*shape, 6))
+    h = fft_shape[2] // 2 + 1
+    factor = rng.normal(size=(6, *fft_shape[:2], h)) + 1j * rng.normal(size=(6, *fft_shape[:2], h))
+    per_block = -(-h // blocks)
+    box = BoxFFT(shape, fft_shape, effort="FFTW_ESTIMATE", block_bytes=6 * fft_shape[0] * fft_shape[1] * 16 * per_block)
+    weights_in, weights_out = np.arange(1.0, 7.0), 1.0 / np.arange(2.0, 8.0)
+    target = [(np.arange(size) - s) % n for size, s, n in zip(target_shape, place, fft_shape)]
+
+    def spectral_pass(spectra, k0, k1):
+        spectra *= factor[..., k0:k1]
+
+    out = box.apply(field, spectral_pass, weights_in, weights_out, target=target)
+    assert out.shape == (*target_shape, 6)
+    expected = np.empty_like(out)
+    for c in range(6):
+        padded = np.zeros(fft_shape)
+        padded[:shape[0], :shape[1], :shape[2]] = field[..., c] * weights_in[c]
+        back = np.fft.irfftn(np.fft.rfftn(padded) * factor[c], s=fft_shape, axes=(0, 1, 2))
+        expected[..., c] = back[np.ix_(*target)] * weights_out[c]
+    assert np.abs(out - expected).max() <= 1e-14 * np.abs(expected).max()
+    inside = tuple(slice(p, p + m) for p, m in zip(place, shape))
+    own = box.apply(field, spectral_pass, weights_in, weights_out)      # the padding zeroed again after the target
+    assert np.abs(own - out[inside]).max() <= 1e-14 * np.abs(own).max()
+
+
 def test_kernels_held_in_blocks_give_the_same_product(monkeypatch):
     """An operator whose kernels and spectra are held a block of q3 at a time (a large box's; here forced on a
     small one by a small block size) gives the product of the one-block operator to 1e-14, and the same

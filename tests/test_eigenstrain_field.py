@@ -45,6 +45,22 @@ def test_field_equals_box_operator_and_direct_sums(start):
         field.apply(eigen, start=(15, 6))
 
 
+def test_field_in_blocks_of_q3_equals_the_field_at_once(monkeypatch):
+    """Kernels and spectra held a block of q3 at a time (a large grid's, at most BLOCK_BYTES each; here forced on
+    a small one) give the one-block field to 1e-14, at both places of the box."""
+    from framework.operators import box_fft
+    shape = (6, 7, 5)
+    eigen = np.random.default_rng(1).normal(size=(*shape, 6)) * 1e-3
+    one = EigenstrainField(GRID, NU, (8, 6, 3), shape, starts=[(8, 6), (14, 6)])
+    n1, n2, n3 = one.fft_shape
+    monkeypatch.setattr(box_fft, "BLOCK_BYTES", 6 * n1 * n2 * 16 * 3)       # three q3 a block
+    several = EigenstrainField(GRID, NU, (8, 6, 3), shape, starts=[(8, 6), (14, 6)])
+    assert len(several._kernels) == -(-(n3 // 2 + 1) // 3) >= 3
+    for start in ((8, 6), (14, 6)):
+        expected = one.apply(eigen, start=start)
+        assert np.abs(several.apply(eigen, start=start) - expected).max() <= 1e-14 * np.abs(expected).max()
+
+
 CARBIDE = inclusions.Ellipsoid(center=(0.0, 0.0, 0.12e-3), semi_axes=(0.08e-3, 0.08e-3, 0.08e-3),
                                material=materials.Elastic(young=600e9, poisson=0.22))
 SMALL = fw.Grid(shape=(32, 32), size=(0.8e-3, 0.8e-3), depth=0.4e-3, layers=16)

@@ -10,7 +10,9 @@ box only. The 3-D transform is taken one axis at a time, each over the lines tha
 - along ``x1``: every line, for each ``q3``.
 
 That is half the work of the whole lattice's transforms (``8 m^3`` against ``16 m^3`` line points
-for ``N = 2 m``). The spectral pass between the forward and inverse transforms acts on each ``q3``
+for ``N = 2 m``). The result may also be taken on other points of the lattice than the box's (``target``: a
+grid around the box, :class:`~framework.operators.eigenstrain_field.EigenstrainField`'s): then every row is
+transformed back along ``x2`` and the target's lines along ``x3``. The spectral pass between the forward and inverse transforms acts on each ``q3``
 alone (the passes of :mod:`framework.operators._box_loops` pair ``q1, q2`` with ``-q1, -q2`` only),
 so the spectra are held for a block of ``q3`` at a time: ``6 N1 N2 b`` values instead of
 ``6 N1 N2 (N3/2 + 1)``, and no padded real array: memory follows the box, not its padded lattice.
@@ -82,6 +84,7 @@ class BoxFFT:
         self._lines_out = fft.zeros((m1, m2, n3))
         self._line_spectrum = fft.zeros((m1, m2, self.h), complex)
         self._buffers = {}          # a block of q3's spectra, by block size
+        self._all_rows = {}         # every row's inverse along x2, by block size (a target's)
         self.measure, self.applications = effort == "FFTW_MEASURE", 0
         later = self.measure and n1 * n2 * n3 <= MEASURE_AT_ONCE_POINTS
         self._plan("wisdom" if later else effort)
@@ -121,13 +124,20 @@ class BoxFFT:
                                  fft.Transform(rows, rows, axes=(2,), inverse=True, effort=effort))
         return self._plans[size]
 
-    def apply(self, field, spectral_pass, weights_in=None, weights_out=None):
+    def apply(self, field, spectral_pass, weights_in=None, weights_out=None, target=None):
         """The box field ``(m1, m2, m3, 6)`` of ``F^-1 [spectral_pass(F (field * weights_in))] * weights_out``.
 
         ``spectral_pass(spectra, k0, k1)`` changes the six spectra ``(6, N1, N2, k1 - k0)`` of the
         wavenumbers ``q3 = k0 .. k1 - 1`` in place (``q1, q2`` over the whole lattice, unnormalised);
         the result is normalised by the lattice's number of points.
+
+        ``target``, three arrays of lattice indices (one per axis): the result ``(t1, t2, t3, 6)`` at those
+        points instead of the box's (the box lies at the lattice's indices ``0 .. m - 1``). Its spectra along
+        ``x3`` are held for every ``q3`` (``6 t1 t2 (N3/2 + 1)`` complex numbers) while the blocks go, and its
+        line transforms are planned by estimate at each call.
         """
+        if target is not None:
+            return self._apply_to(field, spectral_pass, weights_in, weights_out, [np.asarray(t) for t in target])
         (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
         self.applications += 1
         if self.measure and self.effort != "FFTW_MEASURE" and self.applications >= MEASURE_AFTER:
@@ -135,9 +145,7 @@ class BoxFFT:
         ones = np.ones(6)
         weights_in = ones if weights_in is None else weights_in
         weights_out = ones if weights_out is None else weights_out
-        for c in range(6):
-            np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
-            self._line_forward[c]()
+        self._forward_lines(field, weights_in)
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             spectra[:, m1:] = 0.0                   # the padding (the last inverse left values there)
@@ -155,6 +163,46 @@ class BoxFFT:
             self._line_spectrum[...] = self._lines[c]
             self._line_inverse()
             np.multiply(self._lines_out[:, :, :m3], scale * weights_out[c], out=out[..., c])
+        return out
+
+    def _forward_lines(self, field, weights_in):
+        m3 = self.shape[2]
+        for c in range(6):
+            np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
+            self._line_forward[c]()
+
+    def _apply_to(self, field, spectral_pass, weights_in, weights_out, target):
+        """:meth:`apply` with a ``target``: every row back along x2, the target's rows and columns gathered a block at
+        a time, then the target's lines back along x3."""
+        (m1, m2, _), (n1, n2, n3) = self.shape, self.fft_shape
+        t1, t2, t3 = target
+        ones = np.ones(6)
+        weights_in = ones if weights_in is None else weights_in
+        weights_out = ones if weights_out is None else weights_out
+        self._forward_lines(field, weights_in)
+        lines = np.empty((6, t1.size, t2.size, self.h), complex)
+        for k0, k1 in self.blocks:
+            spectra, rows_forward, forward, inverse, _ = self._block_plans(k1 - k0)
+            spectra[:, m1:] = 0.0
+            spectra[:, :m1, m2:] = 0.0
+            spectra[:, :m1, :m2] = self._lines[:, :, :, k0:k1]
+            rows_forward()
+            forward()
+            spectral_pass(spectra, k0, k1)
+            inverse()
+            if (k1 - k0) not in self._all_rows:
+                self._all_rows[k1 - k0] = fft.Transform(spectra, spectra, axes=(2,), inverse=True,
+                                                        effort="FFTW_ESTIMATE")
+            self._all_rows[k1 - k0]()
+            lines[..., k0:k1] = np.take(np.take(spectra, t1, axis=1), t2, axis=2)
+        spectrum, values = fft.zeros((t1.size, t2.size, self.h), complex), fft.zeros((t1.size, t2.size, n3))
+        back = fft.Transform(spectrum, values, axes=(2,), effort="FFTW_ESTIMATE")
+        out = np.empty((t1.size, t2.size, t3.size, 6))
+        scale = 1.0 / (n1 * n2 * n3)
+        for c in range(6):
+            spectrum[...] = lines[c]
+            back()
+            np.multiply(np.take(values, t3, axis=2), scale * weights_out[c], out=out[..., c])
         return out
 
     def transforms_alone(self):

@@ -12,7 +12,8 @@ so that in the box it gives the box operator's strain and beyond it the field's 
    offset between a grid cuboid and a box cuboid. Each kernel is even or odd in each offset
    (:mod:`framework.operators.parity`): it is evaluated on the offsets ``0 .. K`` of each axis
    (``K`` the largest offset, wherever a rolling box goes) and transformed on a period
-   ``N > 2K``, an eighth of its spectrum stored;
+   ``N > 2K``, an eighth of its spectrum stored; the box's transforms are pruned as the box operator's, and
+   taken back onto the grid's points of the lattice;
 2. the mirror image's field, a correlation in x3 of the box with the kernels of the sums of
    depths (``N3 >= layers + m3 - 1``), a quarter stored; both terms go through the box
    operator's compiled spectral pass (:mod:`framework.operators._box_loops`);
@@ -31,6 +32,7 @@ import numpy as np
 from .. import fft
 from ..errors import ParameterError, ShapeError
 from ._box_loops import loops
+from . import box_fft
 from .box_surface import BoxSurface
 from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, kernel_spectra, surface_traction_kernels)
 from .stress import SubsurfaceStress
@@ -47,9 +49,15 @@ class EigenstrainField:
 
     Built once (the kernels' spectra); :meth:`apply` is the one verb. Memory: the 21
     infinite-space kernels take ``21 (N1/2+1)(N2/2+1)(N3/2+1)`` reals and the 21 mirror kernels as
-    many complex numbers, a product ``6 N1 N2 (N3/2+1)`` complex numbers and two real arrays of the
-    padded grid, the surface maps ``2 x 6 m3`` planes of ``(P1/2+1)(P2/2+1)`` reals (``P`` about twice
-    the grid's surface), plus the stress of the grid that a product returns.
+    many complex numbers (held a block of ``q3`` at a time, :func:`~framework.operators.box_fft.q3_blocks`);
+    a product's transforms are the box operator's pruned ones (:class:`~framework.operators.box_fft.BoxFFT`,
+    taken back onto the grid): one block's six spectra (at most
+    :data:`~framework.operators.box_fft.BLOCK_BYTES`), the grid's lines along ``x3`` (``6 n1 n2 (N3/2+1)``
+    complex numbers) and one component's real lines, not the whole padded lattice's spectra and two real
+    arrays (a 30-body dispersion at 8 cuboids a radius on a 192 x 192 x 64 grid: 2.17 -> 1.66 GiB at the
+    first call, kernels included, 2.4 -> 2.2 s a call); the surface maps ``2 x 6 m3`` planes of
+    ``(P1/2+1)(P2/2+1)`` reals (``P`` about twice the grid's surface), plus the stress of the grid that a
+    product returns.
 
     Parameters
     ----------
@@ -85,19 +93,21 @@ class EigenstrainField:
         lasts = [max(s[0] for s in starts), max(s[1] for s in starts), start[2]]
         self.reach = tuple(_largest_offset(limits[a], firsts[a], lasts[a], shape[a]) for a in range(3))
         self.fft_shape = tuple(fft.even_size(2 * r + 2) for r in self.reach)
-        self._direct, self._mirror = self._spectra()
+        self._block_bytes = box_fft.BLOCK_BYTES          # the kernels' blocks of q3 and the transforms' the same
+        self._kernels = self._spectra()
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
                                for axis in range(2))
         region = (slice(0, grid.shape[0]), slice(0, grid.shape[1]))
         self._surface = BoxSurface(grid, poisson, region, start, shape, traction=self._traction, starts=starts)
         self.surface_stress = SubsurfaceStress(grid, poisson) if surface_stress is None else surface_stress
-        self._buffers = None
+        self._box_fft = None
 
     def _spectra(self):
         """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra, each
-        ``(21, N1/2+1, N2/2+1, N3/2+1)``, of ``C : D`` (unit Young's modulus, Mandel basis), averaged over
-        each target cuboid as the box operator's are."""
+        ``(21, N1/2+1, N2/2+1, k1 - k0)``, of ``C : D`` (unit Young's modulus, Mandel basis), averaged over
+        each target cuboid as the box operator's are, per block of q3 ``{k0: (direct, mirror)}``
+        (:func:`~framework.operators.box_fft.q3_blocks` of :data:`~framework.operators.box_fft.BLOCK_BYTES`)."""
         n3 = self.fft_shape[2]
         m3, s3, layers = self.shape[2], self.start[2], self.grid.layers
         h = self.spacing
@@ -106,22 +116,19 @@ class EigenstrainField:
         # x3 + x3' is (o + 2 s3 + m3) dx3 with o = (i3 - s3) - b; o runs over -(s3 + m3 - 1) .. layers - 1 - s3
         mirror_faces = (s3 + 0.5 + np.arange(layers + m3)) * h[2]
         place = (np.arange(layers + m3 - 1) - (s3 + m3 - 1)) % n3
-        return kernel_spectra(faces, mirror_faces, place, m3, self.fft_shape, self.poisson, h)
+        return kernel_spectra(faces, mirror_faces, place, m3, self.fft_shape, self.poisson, h,
+                              blocks=box_fft.q3_blocks(self.fft_shape, self._block_bytes))
 
     def _traction(self, faces1, faces2):
         """``2 s33`` at the surface ``(F1, F2, m3, 6)`` per unit eigenstrain component of a cuboid of each box
         layer (top-down), unit modulus, target minus source between the faces given [m] (the box operator's)."""
         return surface_traction_kernels(faces1, faces2, self.start[2], self.shape[2], self.spacing[2], self.poisson)
 
-    def _plans(self):
-        if self._buffers is None:
-            n1, n2, n3 = self.fft_shape
-            real_in, real_out = fft.zeros(self.fft_shape), fft.zeros(self.fft_shape)
-            spectra = fft.zeros((6, n1, n2, n3 // 2 + 1), complex)
-            forward = [fft.Transform(real_in, spectra[c], axes=(0, 1, 2), effort="FFTW_ESTIMATE") for c in range(6)]
-            inverse = [fft.Transform(spectra[c], real_out, axes=(0, 1, 2), effort="FFTW_ESTIMATE") for c in range(6)]
-            self._buffers = (real_in, real_out, spectra, forward, inverse)
-        return self._buffers
+    def _transforms(self):
+        if self._box_fft is None:
+            self._box_fft = box_fft.BoxFFT(self.shape, self.fft_shape, effort="FFTW_ESTIMATE",
+                                           block_bytes=self._block_bytes)
+        return self._box_fft
 
     def _where(self, start):
         start = tuple(self.start[:2]) if start is None else tuple(int(c) for c in start[:2])
@@ -137,23 +144,14 @@ class EigenstrainField:
         eigenstrain ``(m1, m2, m3, 6)`` (tensor shears) of the box at ``start`` (x1, x2; default the first)."""
         eigenstrain = self._check(eigenstrain)
         s1, s2 = self._where(start)
-        (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
-        real_in, real_out, spectra, forward, inverse = self._plans()
-        real_in[...] = 0.0
-        for c in range(6):
-            real_in[:m1, :m2, :m3] = eigenstrain[..., c] * MANDEL[c]
-            forward[c]()
-        loops().stiffness(spectra, self._direct, self._mirror, *self._entries, *self._parities, MIRROR)
-        grid = self.grid
-        rows = [(np.arange(size) - s) % n for size, s, n in zip((*grid.shape, grid.layers), (s1, s2, self.start[2]),
-                                                                 self.fft_shape)]
-        index = np.ix_(*rows)
-        out = np.empty((*grid.shape, grid.layers, 6))
-        scale = 1.0 / (n1 * n2 * n3)
-        for c in range(6):
-            inverse[c]()
-            out[..., c] = real_out[index] * (scale / MANDEL[c])
-        return out
+        grid, passes = self.grid, loops()
+        # the box at the lattice's first points; the grid's cuboid i at (i - start) mod N of each axis
+        target = [(np.arange(size) - s) % n for size, s, n in zip((*grid.shape, grid.layers), (s1, s2, self.start[2]),
+                                                                   self.fft_shape)]
+        return self._transforms().apply(
+            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernels[k0], *self._entries,
+                                                                  *self._parities, MIRROR),
+            MANDEL, 1.0 / MANDEL, target=target)
 
     def traction(self, eigenstrain, start=None):
         """The pressure ``2 s33`` ``(n1, n2)`` on the grid's surface (per unit Young's modulus times the
