@@ -53,6 +53,11 @@ IMAGES_BYTES = 768 * 2**20
 #: may take [bytes] (else each cuboid is solved alone): a sphere filling a 128^3 box, on the 136^3 folded lattice
 #: (360 MiB), took 13 GMRES iterations against 17 cuboid by cuboid, 80 s against 83, and 3.24 GiB against 2.86.
 FOURIER_BYTES = 256 * 2**20
+#: ... or, on a larger box, this many bytes per box cuboid: the per-wavenumber matrices on the box's own lattice, both
+#: the inverse and the operator of its inner solve, take 75-103 bytes a box cuboid (a run about 1.5 KB), and without
+#: them each cuboid is solved alone: 300 glass spheres at 8 cuboids per radius (box 7.75 M cuboids, matrices 631 MB)
+#: took 32 products a step cuboid by cuboid (542 s a step), against 7-8 for 10 to 300 bodies at 4 cuboids per radius.
+FOURIER_CUBOID_BYTES = 96
 
 #: Bodies the Fourier preconditioner fills the box with, at their own stiffness, at most: one. It fills the box with
 #: the bodies' material, matrix between them included: right for one body (no unknowns outside it), ever more
@@ -304,7 +309,7 @@ class FourierPreconditioner:
     are preconditioned cuboid by cuboid: with a stiff and a soft body sharing a mean contrast the
     iteration stalled). The matrices (36 values per wavenumber, a quarter of the wavenumbers for
     isotropic materials), with the transforms' buffers on the folded lattice, must fit in
-    :data:`FOURIER_BYTES`, else each cuboid is solved alone.
+    :data:`FOURIER_BYTES` (or :data:`FOURIER_CUBOID_BYTES` a box cuboid), else each cuboid is solved alone.
 
     ``lattice``, the periodic cell (:meth:`~framework.operators.eigenstrain.HalfSpaceEigenstrain.lattice_shape`,
     the kernels folded onto it): ``"own"``, half the padded lattice along each axis, eight times fewer
@@ -353,7 +358,8 @@ class FourierPreconditioner:
     @staticmethod
     def fits(operator, stiffnesses, lattice="padded", forward=False):
         """Whether the matrices for these inhomogeneities' stiffnesses (Mandel), twice as many with ``forward``, and
-        the transforms on the folded lattice, take at most :data:`FOURIER_BYTES`."""
+        the transforms on the folded lattice, take at most :data:`FOURIER_BYTES`, or :data:`FOURIER_CUBOID_BYTES` per
+        box cuboid where that is more."""
         n1, n2, n3 = shape = operator.lattice_shape(lattice)
         isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
                         for p in operator.kernel_parities for c in stiffnesses)
@@ -361,7 +367,8 @@ class FourierPreconditioner:
         # the folded lattice's transforms count (a 128^3 box's: 272 MiB); the own lattice's, at most an eighth of the
         # product's lattice, were always taken (100 glass spheres at 8 cuboids per radius: 16 iterations, not 28)
         transforms = buffer_bytes(operator.shape, shape) if lattice == "folded" else 0
-        return rows * columns * (n3 // 2 + 1) * 36 * 8 * (2 if forward else 1) + transforms <= FOURIER_BYTES
+        limit = max(FOURIER_BYTES, FOURIER_CUBOID_BYTES * int(np.prod(operator.shape)))
+        return rows * columns * (n3 // 2 + 1) * 36 * 8 * (2 if forward else 1) + transforms <= limit
 
     def __call__(self, field):
         """The preconditioned box field of a box field ``(m1, m2, m3, 6)`` (Mandel components)."""
