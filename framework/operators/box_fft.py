@@ -142,10 +142,26 @@ class BoxFFT:
         self.applications += 1
         if self.measure and self.effort != "FFTW_MEASURE" and self.applications >= MEASURE_AFTER:
             self._plan("FFTW_MEASURE")
-        ones = np.ones(6)
-        weights_in = ones if weights_in is None else weights_in
-        weights_out = ones if weights_out is None else weights_out
-        self._forward_lines(field, weights_in)
+        for k0, k1, spectra, rows_inverse in self._passes(field, spectral_pass, weights_in):
+            rows_inverse()
+            self._lines[:, :, :, k0:k1] = spectra[:, :m1, :m2]
+        out = np.empty((m1, m2, m3, 6))
+        scale = 1.0 / (n1 * n2 * n3)
+        for c in range(6):
+            self._line_spectrum[...] = self._lines[c]
+            self._line_inverse()
+            np.multiply(self._lines_out[:, :, :m3], scale * (1.0 if weights_out is None else weights_out[c]),
+                        out=out[..., c])
+        return out
+
+    def _passes(self, field, spectral_pass, weights_in):
+        """The box's lines transformed along x3, then for each block of q3 its spectra transformed along x2 and x1,
+        passed, and back along x1: yields ``(k0, k1, spectra, rows_inverse)`` (the box rows' transform back along
+        x2), the padding zeroed again at the next block."""
+        (m1, m2, m3) = self.shape
+        for c in range(6):
+            np.multiply(field[..., c], 1.0 if weights_in is None else weights_in[c], out=self._lines_in[:, :, :m3])
+            self._line_forward[c]()
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             spectra[:, m1:] = 0.0                   # the padding (the last inverse left values there)
@@ -155,41 +171,15 @@ class BoxFFT:
             forward()
             spectral_pass(spectra, k0, k1)
             inverse()
-            rows_inverse()
-            self._lines[:, :, :, k0:k1] = spectra[:, :m1, :m2]
-        out = np.empty((m1, m2, m3, 6))
-        scale = 1.0 / (n1 * n2 * n3)
-        for c in range(6):
-            self._line_spectrum[...] = self._lines[c]
-            self._line_inverse()
-            np.multiply(self._lines_out[:, :, :m3], scale * weights_out[c], out=out[..., c])
-        return out
-
-    def _forward_lines(self, field, weights_in):
-        m3 = self.shape[2]
-        for c in range(6):
-            np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
-            self._line_forward[c]()
+            yield k0, k1, spectra, rows_inverse
 
     def _apply_to(self, field, spectral_pass, weights_in, weights_out, target):
         """:meth:`apply` with a ``target``: every row back along x2, the target's rows and columns gathered a block at
         a time, then the target's lines back along x3."""
-        (m1, m2, _), (n1, n2, n3) = self.shape, self.fft_shape
+        n1, n2, n3 = self.fft_shape
         t1, t2, t3 = target
-        ones = np.ones(6)
-        weights_in = ones if weights_in is None else weights_in
-        weights_out = ones if weights_out is None else weights_out
-        self._forward_lines(field, weights_in)
         lines = np.empty((6, t1.size, t2.size, self.h), complex)
-        for k0, k1 in self.blocks:
-            spectra, rows_forward, forward, inverse, _ = self._block_plans(k1 - k0)
-            spectra[:, m1:] = 0.0
-            spectra[:, :m1, m2:] = 0.0
-            spectra[:, :m1, :m2] = self._lines[:, :, :, k0:k1]
-            rows_forward()
-            forward()
-            spectral_pass(spectra, k0, k1)
-            inverse()
+        for k0, k1, spectra, _ in self._passes(field, spectral_pass, weights_in):
             if (k1 - k0) not in self._all_rows:
                 self._all_rows[k1 - k0] = fft.Transform(spectra, spectra, axes=(2,), inverse=True,
                                                         effort="FFTW_ESTIMATE")
@@ -202,7 +192,8 @@ class BoxFFT:
         for c in range(6):
             spectrum[...] = lines[c]
             back()
-            np.multiply(np.take(values, t3, axis=2), scale * weights_out[c], out=out[..., c])
+            np.multiply(np.take(values, t3, axis=2), scale * (1.0 if weights_out is None else weights_out[c]),
+                        out=out[..., c])
         return out
 
     def transforms_alone(self):
