@@ -12,9 +12,9 @@ box only. The 3-D transform is taken one axis at a time, each over the lines tha
 That is half the work of the whole lattice's transforms (``8 m^3`` against ``16 m^3`` line points
 for ``N = 2 m``). The result may also be taken on other points of the lattice than the box's (``target``: a
 grid around the box, :class:`~framework.operators.eigenstrain_field.EigenstrainField`'s): then every row is
-transformed back along ``x2`` and the target's lines along ``x3``. The spectral pass between the forward and inverse transforms acts on each ``q3``
-alone (the passes of :mod:`framework.operators._box_loops` pair ``q1, q2`` with ``-q1, -q2`` only),
-so the spectra are held for a block of ``q3`` at a time: ``6 N1 N2 b`` values instead of
+transformed back along ``x2`` and the target's lines along ``x3``. The spectral pass between the forward and
+inverse transforms acts on each ``q3`` alone (the passes of :mod:`framework.operators._box_loops` pair
+``q1, q2`` with ``-q1, -q2`` only), so the spectra are held for a block of ``q3`` at a time: ``6 N1 N2 b`` values instead of
 ``6 N1 N2 (N3/2 + 1)``, and no padded real array: memory follows the box, not its padded lattice.
 """
 import numpy as np
@@ -136,6 +136,9 @@ class BoxFFT:
         ``x3`` are held for every ``q3`` (``6 t1 t2 (N3/2 + 1)`` complex numbers) while the blocks go, and its
         line transforms are planned by estimate at each call.
         """
+        ones = np.ones(6)
+        weights_in = ones if weights_in is None else weights_in
+        weights_out = ones if weights_out is None else weights_out
         if target is not None:
             return self._apply_to(field, spectral_pass, weights_in, weights_out, [np.asarray(t) for t in target])
         (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
@@ -150,8 +153,7 @@ class BoxFFT:
         for c in range(6):
             self._line_spectrum[...] = self._lines[c]
             self._line_inverse()
-            np.multiply(self._lines_out[:, :, :m3], scale * (1.0 if weights_out is None else weights_out[c]),
-                        out=out[..., c])
+            np.multiply(self._lines_out[:, :, :m3], scale * weights_out[c], out=out[..., c])
         return out
 
     def _passes(self, field, spectral_pass, weights_in):
@@ -160,7 +162,7 @@ class BoxFFT:
         x2), the padding zeroed again at the next block."""
         (m1, m2, m3) = self.shape
         for c in range(6):
-            np.multiply(field[..., c], 1.0 if weights_in is None else weights_in[c], out=self._lines_in[:, :, :m3])
+            np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
             self._line_forward[c]()
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
@@ -192,8 +194,7 @@ class BoxFFT:
         for c in range(6):
             spectrum[...] = lines[c]
             back()
-            np.multiply(np.take(values, t3, axis=2), scale * (1.0 if weights_out is None else weights_out[c]),
-                        out=out[..., c])
+            np.multiply(np.take(values, t3, axis=2), scale * weights_out[c], out=out[..., c])
         return out
 
     def transforms_alone(self):
