@@ -701,7 +701,7 @@ class EquivalentInclusionProblem:
         if self._field is None:
             self._field = np.zeros((*self.operator.shape, 6))
         self._field.reshape(-1, 6)[self._flat] = np.reshape(values, (-1, 6))
-        return self._fourier[1].apply(self._field, forward).reshape(-1, 6)[self._flat].ravel()
+        return self.on_cells(self._fourier[1].apply(self._field, forward)).ravel()
 
     def _inner_solve(self, values):
         """The bodies' system in the filled periodic cell, ``P F P x = v`` (``F`` the cell's operator filled with the
