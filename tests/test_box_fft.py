@@ -142,5 +142,5 @@ def test_buffer_bytes_counts_the_buffers_a_box_fft_holds(block_bytes):
     kwargs = {} if block_bytes is None else {"block_bytes": block_bytes}
     box = BoxFFT((5, 6, 7), (10, 12, 14), effort="FFTW_ESTIMATE", **kwargs)
     box.apply(np.ones((5, 6, 7, 6)), lambda spectra, k0, k1: None)
-    held = [box._lines_in, box._lines, box._lines_out, box._line_spectrum, box._buffers[box.block]]
+    held = [box._lines_in, box._lines, box._lines_out, box._buffers[box.block]]
     assert box_fft.buffer_bytes((5, 6, 7), (10, 12, 14), **kwargs) == sum(a.nbytes for a in held)

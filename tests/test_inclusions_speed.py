@@ -8,7 +8,8 @@ from framework import _fused, fft, inclusions, indenters, loads, materials, sche
 from framework.inclusions import equivalent
 from framework.inclusions.field import InclusionProblem
 from framework.operators.box_fft import buffer_bytes
-from framework.operators.eigenstrain import ENTRIES, FOLDED_GAP, HalfSpaceEigenstrain, _stiffness_coefficients, potential_kernel_items
+from framework.operators.eigenstrain import (ENTRIES, FOLDED_GAP, HalfSpaceEigenstrain, _stiffness_coefficients,
+                                             potential_kernel_items, stress_from_strain)
 from framework.operators.kernels import subsurface_stress
 
 NU = 0.3
@@ -125,6 +126,57 @@ def test_every_code_path_gives_the_same_product(path):
             other, moved = again.strain(eigen), again.surface_displacement(eigen)
     assert np.abs(other - strain).max() <= 1e-13 * np.abs(strain).max()
     assert np.abs(moved - displacement).max() <= 1e-13 * np.abs(displacement).max()
+
+
+@pytest.mark.skipif(not _fused.numba_available(), reason="numba is not installed (the jit extra)")
+@pytest.mark.parametrize("lattice", [(60, 64, 31), (8, 6, 70), (10, 12, 1), (6, 10, 33), (4, 4, 9)])
+def test_compiled_box_loops_equal_their_numpy_forms(lattice):
+    """Each compiled loop of the eigenstrain operator on random fields equals its numpy form to rounding (1e-14):
+    the stiffness pass on half lattices of one q3 up to more than two of its chunks (CHUNK), not whole vectors of 8
+    (its rows' ends are scratch); the surface sums and spreads; the copies between box fields, component lines and
+    surface planes; Hooke's law inverted."""
+    from framework.operators import _box_loops
+    n1, n2, h = lattice
+    rng = np.random.default_rng(sum(lattice))
+
+    def complex_normal(*shape):
+        return rng.normal(size=shape) + 1j * rng.normal(size=shape)
+    spectra = complex_normal(6, n1, n2, h)
+    direct, mirror = rng.normal(size=(21, n1 // 2 + 1, n2 // 2 + 1, h)), complex_normal(21, n1 // 2 + 1, n2 // 2 + 1, h)
+    first, second = np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES])
+    parity1, parity2 = np.array([1.0, -1, 1, -1, 1, -1]), np.array([1.0, 1, -1, -1, 1, 1])
+    m1, m2, layers, width = max(2, n1 // 2), max(2, n2 // 2), 3, n2 + 5
+    field = rng.normal(size=(m1, m2, layers, 6))
+    surface = complex_normal(6, n1, h)
+    kernels, factors, parities = rng.normal(size=(6 * layers, n1 // 2 + 1, h)), complex_normal(6 * layers), \
+        rng.choice([-1.0, 1.0], 6 * layers)
+    planes = rng.normal(size=(6, m1, width))
+    results = {}
+    for compiled in (False, True):
+        with _fused.use_compiled(compiled):
+            passes = _box_loops.loops()
+            assert (passes is _box_loops.NumpyLoops) is not compiled
+            out = [spectra.copy(), np.zeros((n1, h), complex), np.empty((6, n1, h), complex),
+                   np.zeros((6, m1, width)), field.copy(), field.copy(), np.empty((m1, m2, layers)), np.empty_like(field),
+                   field.reshape(-1, 6).copy()]
+            passes.stiffness(out[0], direct, mirror, first, second, parity1, parity2, np.array([1.0, 1, 1, -1, -1, 1]))
+            passes.surface_sum(out[1], kernels, factors, parities, surface, 6)
+            passes.surface_spread(out[2], kernels, factors, parities, surface[0], 12)
+            passes.surface_planes(out[3], field, 1, 4)
+            passes.surface_add(out[4], planes, 2, 3, 0.5, True)
+            passes.surface_add(out[5], planes, 0, 3, 0.5, False)
+            passes.take_component(out[6], field, 4, 1.5)
+            for c in range(6):
+                passes.put_component(out[7], field[..., c] + c, c, 0.25)
+            passes.compliance(out[8], 0.3)
+            results[compiled] = out
+    for plain, fast in zip(*results.values()):
+        assert np.abs(fast - plain).max() <= 1e-14 * np.abs(plain).max()
+    plain = results[False]
+    assert np.array_equal(plain[3][..., 4:4 + m2], np.moveaxis(field[:, :, 1], -1, 0))
+    assert np.array_equal(plain[6], 1.5 * field[..., 4]) and np.array_equal(plain[7][..., 5], 0.25 * (field[..., 5] + 5))
+    # Hooke's law (unit modulus) gives the stress back
+    assert np.abs(stress_from_strain(plain[8], 0.3) - field.reshape(-1, 6)).max() <= 1e-14 * np.abs(field).max()
 
 
 def stiff_sphere_problem(**options):

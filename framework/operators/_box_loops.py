@@ -17,9 +17,17 @@ whole spectra, each a temporary). Here each is one loop:
                  ``q1 >= 0`` as real factors, each with a complex factor and its parity in ``q1``)
 ``surface_spread`` ``out[p] = kernels[p] * spectrum``: a surface field's spectrum spread over the
                  layers and components of a box, the same storage
+``surface_planes`` a layer of a box field into the six planes of its surface transforms (``surface_add``: back,
+                 scaled, into a box field)
+``take_component`` one component of a box field into the lines of its transforms along ``x3``, weighted
+                 (``put_component``: back)
+``compliance``   Hooke's law inverted in place on ``(n, 6)`` stresses (unit modulus)
 ``fourier_apply`` ``s(q) <- M(q) s(q)``, a 6 x 6 real matrix per wavenumber (a preconditioner's), stored
                  for every wavenumber or, when the components' parities allow, for ``q1, q2 >= 0``
 ===============  ==================================================================================
+
+The copies are loops too: as numpy expressions they gather or scatter a component at a stride of six, with a
+temporary, 0.7 of the rolling bench's 22 ms product.
 
 The compiled loops are used when numba is installed and :func:`framework._fused.set_compiled`
 allows it; else the numpy forms below, which give the same numbers to rounding.
@@ -28,23 +36,38 @@ import numpy as np
 
 from .. import _fused
 
+#: The 21 entries ``(a, b)``, ``a <= b``, of ``C : D`` (a symmetric 6 x 6 kernel), in the order of the stored spectra.
+ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
+#: Wavenumbers ``q3`` the compiled stiffness pass takes at a time: the pitch of its scratch rows (a multiple of 8,
+#: the vector loop's width).
+CHUNK = 32
+
 
 class _Loops:
     """The passes as loops, for numba."""
 
     def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
-        # Unrolled for the 21 entries of eigenstrain.ENTRIES (first, second are theirs: the numpy form reads them):
-        # the six components of a wavenumber and of its reversal stay in registers, and the four wavenumbers
-        # +-q1, +-q2 that share a stored kernel value read it once (a loop over the entries read and wrote
-        # the sums at each of its 36 products: 81 -> 63 ms on a 128^3 lattice). A pair's two wavenumbers go in two
-        # loops over q3, the reversal's into T first (it reads both inputs), then the wavenumber's in place: half the
-        # sums live at a time (the registers spill less), 53.7 -> 43.1 ms on a 128 x 128 x 65 half lattice, 7.0 ->
-        # 6.4 ms on the rolling bench's 60 x 64 x 31 (two output groups of three in each loop: no better).
+        # The four wavenumbers +-q1, +-q2 that share a stored kernel value, a chunk of CHUNK q3 at a time: their
+        # six components (times their signs) are copied into the rows of S, real and imaginary parts apart, and the
+        # kernels into K; one loop computes a pair's (a wavenumber's and its reversal's) results into O, which go
+        # back. Rows of one array at the constant pitch CHUNK let the compiler vectorise that loop (8 q3 at once:
+        # rows of arrays that may alias at runtime distances needed too many alias checks, and complex values read
+        # in place kept it scalar): 6.1 -> 3.8 ms on the rolling bench's 60 x 64 x 31 lattice, 45 -> 27 ms on a
+        # 128 x 128 x 65 half lattice, the same numbers. The copies index by unsigned offsets (numba wraps a signed
+        # index that may be negative, which keeps a loop scalar). Unrolled for the 21 entries of ENTRIES (first,
+        # second are theirs: the numpy form reads them).
         _, n1, n2, h = spectra.shape
+        q1, q2 = direct.shape[1], direct.shape[2]
+        values = spectra.reshape(-1).view(np.float64)          # real and imaginary parts, interleaved
+        kernel, image = direct.reshape(-1), mirror.reshape(-1).view(np.float64)
         half1, half2 = n1 // 2, n2 // 2
-        g, m = np.empty((4, 6)), np.empty((4, 6))
-        T = np.empty((6, h), dtype=np.complex128)     # the reversal's results, until its inputs are read
+        C = CHUNK
+        S = np.zeros(24 * C)    # rows: the wavenumber's six real parts, its six imaginary parts, then its reversal's
+        O = np.zeros(24 * C)    # the results, the same rows
+        K = np.zeros(63 * C)    # rows: the 21 direct kernels, the 21 mirror kernels' real parts, their imaginary parts
+        g, f = np.empty((4, 6)), np.empty(6)
         rows, columns = np.empty(4, dtype=np.int64), np.empty(4, dtype=np.int64)
+        one, two = np.uint64(1), np.uint64(2)
         for i1 in range(half1 + 1):
             r1 = (n1 - i1) % n1
             for i2 in range(half2 + 1):
@@ -57,155 +80,136 @@ class _Loops:
                 same = i1 == r1 and i2 == r2
                 for s in range(4):
                     for c in range(6):
-                        x = (parity1[c] if rows[s] > half1 else 1.0) * (parity2[c] if columns[s] > half2 else 1.0)
-                        g[s, c], m[s, c] = x, x * mirror_sign[c]
-                D0, M0 = direct[0, i1, i2], mirror[0, i1, i2]; D1, M1 = direct[1, i1, i2], mirror[1, i1, i2]
-                D2, M2 = direct[2, i1, i2], mirror[2, i1, i2]; D3, M3 = direct[3, i1, i2], mirror[3, i1, i2]
-                D4, M4 = direct[4, i1, i2], mirror[4, i1, i2]; D5, M5 = direct[5, i1, i2], mirror[5, i1, i2]
-                D6, M6 = direct[6, i1, i2], mirror[6, i1, i2]; D7, M7 = direct[7, i1, i2], mirror[7, i1, i2]
-                D8, M8 = direct[8, i1, i2], mirror[8, i1, i2]; D9, M9 = direct[9, i1, i2], mirror[9, i1, i2]
-                D10, M10 = direct[10, i1, i2], mirror[10, i1, i2]; D11, M11 = direct[11, i1, i2], mirror[11, i1, i2]
-                D12, M12 = direct[12, i1, i2], mirror[12, i1, i2]; D13, M13 = direct[13, i1, i2], mirror[13, i1, i2]
-                D14, M14 = direct[14, i1, i2], mirror[14, i1, i2]; D15, M15 = direct[15, i1, i2], mirror[15, i1, i2]
-                D16, M16 = direct[16, i1, i2], mirror[16, i1, i2]; D17, M17 = direct[17, i1, i2], mirror[17, i1, i2]
-                D18, M18 = direct[18, i1, i2], mirror[18, i1, i2]; D19, M19 = direct[19, i1, i2], mirror[19, i1, i2]
-                D20, M20 = direct[20, i1, i2], mirror[20, i1, i2]
-                for pair in range(pairs):
-                    p, q = 2 * pair, 2 * pair + 1
-                    P0 = spectra[0, rows[p], columns[p]]
-                    Q0 = spectra[0, rows[q], columns[q]]
-                    P1 = spectra[1, rows[p], columns[p]]
-                    Q1 = spectra[1, rows[q], columns[q]]
-                    P2 = spectra[2, rows[p], columns[p]]
-                    Q2 = spectra[2, rows[q], columns[q]]
-                    P3 = spectra[3, rows[p], columns[p]]
-                    Q3 = spectra[3, rows[q], columns[q]]
-                    P4 = spectra[4, rows[p], columns[p]]
-                    Q4 = spectra[4, rows[q], columns[q]]
-                    P5 = spectra[5, rows[p], columns[p]]
-                    Q5 = spectra[5, rows[q], columns[q]]
-                    gp0, gq0, mp0, mq0 = g[p, 0], g[q, 0], m[p, 0], m[q, 0]
-                    gp1, gq1, mp1, mq1 = g[p, 1], g[q, 1], m[p, 1], m[q, 1]
-                    gp2, gq2, mp2, mq2 = g[p, 2], g[q, 2], m[p, 2], m[q, 2]
-                    gp3, gq3, mp3, mq3 = g[p, 3], g[q, 3], m[p, 3], m[q, 3]
-                    gp4, gq4, mp4, mq4 = g[p, 4], g[q, 4], m[p, 4], m[q, 4]
-                    gp5, gq5, mp5, mq5 = g[p, 5], g[q, 5], m[p, 5], m[q, 5]
-                    if not same:      # the reversal's first (into T: both loops read the inputs), then in place
-                        for k in range(h):
-                            a, b = P0[k], Q0[k]
-                            sq0, iq0 = gq0 * b, mq0 * a.conjugate()
-                            a, b = P1[k], Q1[k]
-                            sq1, iq1 = gq1 * b, mq1 * a.conjugate()
-                            a, b = P2[k], Q2[k]
-                            sq2, iq2 = gq2 * b, mq2 * a.conjugate()
-                            a, b = P3[k], Q3[k]
-                            sq3, iq3 = gq3 * b, mq3 * a.conjugate()
-                            a, b = P4[k], Q4[k]
-                            sq4, iq4 = gq4 * b, mq4 * a.conjugate()
-                            a, b = P5[k], Q5[k]
-                            sq5, iq5 = gq5 * b, mq5 * a.conjugate()
-                            kd, km = D0[k], M0[k]; oq0 = kd * sq0 + km * iq0
-                            kd, km = D1[k], M1[k]; oq0 += kd * sq1 + km * iq1
-                            oq1 = kd * sq0 + km * iq0
-                            kd, km = D2[k], M2[k]; oq1 += kd * sq1 + km * iq1
-                            kd, km = D3[k], M3[k]; oq0 += kd * sq2 + km * iq2
-                            oq2 = kd * sq0 + km * iq0
-                            kd, km = D4[k], M4[k]; oq1 += kd * sq2 + km * iq2
-                            oq2 += kd * sq1 + km * iq1
-                            kd, km = D5[k], M5[k]; oq2 += kd * sq2 + km * iq2
-                            kd, km = D6[k], M6[k]; oq0 += kd * sq3 + km * iq3
-                            oq3 = kd * sq0 + km * iq0
-                            kd, km = D7[k], M7[k]; oq1 += kd * sq3 + km * iq3
-                            oq3 += kd * sq1 + km * iq1
-                            kd, km = D8[k], M8[k]; oq2 += kd * sq3 + km * iq3
-                            oq3 += kd * sq2 + km * iq2
-                            kd, km = D9[k], M9[k]; oq3 += kd * sq3 + km * iq3
-                            kd, km = D10[k], M10[k]; oq0 += kd * sq4 + km * iq4
-                            oq4 = kd * sq0 + km * iq0
-                            kd, km = D11[k], M11[k]; oq1 += kd * sq4 + km * iq4
-                            oq4 += kd * sq1 + km * iq1
-                            kd, km = D12[k], M12[k]; oq2 += kd * sq4 + km * iq4
-                            oq4 += kd * sq2 + km * iq2
-                            kd, km = D13[k], M13[k]; oq3 += kd * sq4 + km * iq4
-                            oq4 += kd * sq3 + km * iq3
-                            kd, km = D14[k], M14[k]; oq4 += kd * sq4 + km * iq4
-                            kd, km = D15[k], M15[k]; oq0 += kd * sq5 + km * iq5
-                            oq5 = kd * sq0 + km * iq0
-                            kd, km = D16[k], M16[k]; oq1 += kd * sq5 + km * iq5
-                            oq5 += kd * sq1 + km * iq1
-                            kd, km = D17[k], M17[k]; oq2 += kd * sq5 + km * iq5
-                            oq5 += kd * sq2 + km * iq2
-                            kd, km = D18[k], M18[k]; oq3 += kd * sq5 + km * iq5
-                            oq5 += kd * sq3 + km * iq3
-                            kd, km = D19[k], M19[k]; oq4 += kd * sq5 + km * iq5
-                            oq5 += kd * sq4 + km * iq4
-                            kd, km = D20[k], M20[k]; oq5 += kd * sq5 + km * iq5
-                            T[0, k], T[1, k], T[2, k] = gq0 * oq0, gq1 * oq1, gq2 * oq2
-                            T[3, k], T[4, k], T[5, k] = gq3 * oq3, gq4 * oq4, gq5 * oq5
-                    for k in range(h):
-                        a, b = P0[k], Q0[k]
-                        sp0, ip0 = gp0 * a, mp0 * b.conjugate()
-                        a, b = P1[k], Q1[k]
-                        sp1, ip1 = gp1 * a, mp1 * b.conjugate()
-                        a, b = P2[k], Q2[k]
-                        sp2, ip2 = gp2 * a, mp2 * b.conjugate()
-                        a, b = P3[k], Q3[k]
-                        sp3, ip3 = gp3 * a, mp3 * b.conjugate()
-                        a, b = P4[k], Q4[k]
-                        sp4, ip4 = gp4 * a, mp4 * b.conjugate()
-                        a, b = P5[k], Q5[k]
-                        sp5, ip5 = gp5 * a, mp5 * b.conjugate()
-                        kd, km = D0[k], M0[k]; op0 = kd * sp0 + km * ip0
-                        kd, km = D1[k], M1[k]; op0 += kd * sp1 + km * ip1
-                        op1 = kd * sp0 + km * ip0
-                        kd, km = D2[k], M2[k]; op1 += kd * sp1 + km * ip1
-                        kd, km = D3[k], M3[k]; op0 += kd * sp2 + km * ip2
-                        op2 = kd * sp0 + km * ip0
-                        kd, km = D4[k], M4[k]; op1 += kd * sp2 + km * ip2
-                        op2 += kd * sp1 + km * ip1
-                        kd, km = D5[k], M5[k]; op2 += kd * sp2 + km * ip2
-                        kd, km = D6[k], M6[k]; op0 += kd * sp3 + km * ip3
-                        op3 = kd * sp0 + km * ip0
-                        kd, km = D7[k], M7[k]; op1 += kd * sp3 + km * ip3
-                        op3 += kd * sp1 + km * ip1
-                        kd, km = D8[k], M8[k]; op2 += kd * sp3 + km * ip3
-                        op3 += kd * sp2 + km * ip2
-                        kd, km = D9[k], M9[k]; op3 += kd * sp3 + km * ip3
-                        kd, km = D10[k], M10[k]; op0 += kd * sp4 + km * ip4
-                        op4 = kd * sp0 + km * ip0
-                        kd, km = D11[k], M11[k]; op1 += kd * sp4 + km * ip4
-                        op4 += kd * sp1 + km * ip1
-                        kd, km = D12[k], M12[k]; op2 += kd * sp4 + km * ip4
-                        op4 += kd * sp2 + km * ip2
-                        kd, km = D13[k], M13[k]; op3 += kd * sp4 + km * ip4
-                        op4 += kd * sp3 + km * ip3
-                        kd, km = D14[k], M14[k]; op4 += kd * sp4 + km * ip4
-                        kd, km = D15[k], M15[k]; op0 += kd * sp5 + km * ip5
-                        op5 = kd * sp0 + km * ip0
-                        kd, km = D16[k], M16[k]; op1 += kd * sp5 + km * ip5
-                        op5 += kd * sp1 + km * ip1
-                        kd, km = D17[k], M17[k]; op2 += kd * sp5 + km * ip5
-                        op5 += kd * sp2 + km * ip2
-                        kd, km = D18[k], M18[k]; op3 += kd * sp5 + km * ip5
-                        op5 += kd * sp3 + km * ip3
-                        kd, km = D19[k], M19[k]; op4 += kd * sp5 + km * ip5
-                        op5 += kd * sp4 + km * ip4
-                        kd, km = D20[k], M20[k]; op5 += kd * sp5 + km * ip5
-                        P0[k] = gp0 * op0; P1[k] = gp1 * op1; P2[k] = gp2 * op2
-                        P3[k] = gp3 * op3; P4[k] = gp4 * op4; P5[k] = gp5 * op5
-                    if not same:
-                        Q0[:] = T[0]; Q1[:] = T[1]; Q2[:] = T[2]; Q3[:] = T[3]; Q4[:] = T[4]; Q5[:] = T[5]
+                        g[s, c] = (parity1[c] if rows[s] > half1 else 1.0) * (parity2[c] if columns[s] > half2 else 1.0)
+                for k0 in range(0, h, C):
+                    count = min(C, h - k0)
+                    n = np.uint64(count)
+                    for e in range(21):
+                        at = np.uint64(((e * q1 + i1) * q2 + i2) * h + k0)
+                        d, re, im = np.uint64(e * C), np.uint64((21 + e) * C), np.uint64((42 + e) * C)
+                        for k in range(n):
+                            K[d + k] = kernel[at + k]
+                            K[re + k], K[im + k] = image[two * (at + k)], image[two * (at + k) + one]
+                    for pair in range(pairs):
+                        p, q = 2 * pair, 2 * pair + 1
+                        for c in range(6):
+                            gp, gq = g[p, c], g[q, c]
+                            f[c] = mirror_sign[c] * gp * gq     # the image: f times the other's conjugate, as copied
+                            a = np.uint64(2 * (((c * n1 + rows[p]) * n2 + columns[p]) * h + k0))
+                            b = np.uint64(2 * (((c * n1 + rows[q]) * n2 + columns[q]) * h + k0))
+                            s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
+                            s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
+                            for k in range(n):
+                                S[s0 + k], S[s1 + k] = gp * values[a + two * k], gp * values[a + two * k + one]
+                                S[s2 + k], S[s3 + k] = gq * values[b + two * k], gq * values[b + two * k + one]
+                        f0, f1, f2, f3, f4, f5 = f[0], f[1], f[2], f[3], f[4], f[5]
+                        for k in range((count + 7) // 8 * 8):      # whole vectors (the rows' ends are scratch)
+                            sp0, sq0 = complex(S[k], S[k + 6 * C]), complex(S[k + 12 * C], S[k + 18 * C])
+                            sp1, sq1 = complex(S[k + 1 * C], S[k + 7 * C]), complex(S[k + 13 * C], S[k + 19 * C])
+                            sp2, sq2 = complex(S[k + 2 * C], S[k + 8 * C]), complex(S[k + 14 * C], S[k + 20 * C])
+                            sp3, sq3 = complex(S[k + 3 * C], S[k + 9 * C]), complex(S[k + 15 * C], S[k + 21 * C])
+                            sp4, sq4 = complex(S[k + 4 * C], S[k + 10 * C]), complex(S[k + 16 * C], S[k + 22 * C])
+                            sp5, sq5 = complex(S[k + 5 * C], S[k + 11 * C]), complex(S[k + 17 * C], S[k + 23 * C])
+                            ip0, iq0 = f0 * sq0.conjugate(), f0 * sp0.conjugate()
+                            ip1, iq1 = f1 * sq1.conjugate(), f1 * sp1.conjugate()
+                            ip2, iq2 = f2 * sq2.conjugate(), f2 * sp2.conjugate()
+                            ip3, iq3 = f3 * sq3.conjugate(), f3 * sp3.conjugate()
+                            ip4, iq4 = f4 * sq4.conjugate(), f4 * sp4.conjugate()
+                            ip5, iq5 = f5 * sq5.conjugate(), f5 * sp5.conjugate()
+                            kd, km = K[k], complex(K[k + 21 * C], K[k + 42 * C])
+                            op0 = kd * sp0 + km * ip0; oq0 = kd * sq0 + km * iq0
+                            kd, km = K[k + 1 * C], complex(K[k + 22 * C], K[k + 43 * C])
+                            op0 += kd * sp1 + km * ip1; oq0 += kd * sq1 + km * iq1
+                            op1 = kd * sp0 + km * ip0; oq1 = kd * sq0 + km * iq0
+                            kd, km = K[k + 2 * C], complex(K[k + 23 * C], K[k + 44 * C])
+                            op1 += kd * sp1 + km * ip1; oq1 += kd * sq1 + km * iq1
+                            kd, km = K[k + 3 * C], complex(K[k + 24 * C], K[k + 45 * C])
+                            op0 += kd * sp2 + km * ip2; oq0 += kd * sq2 + km * iq2
+                            op2 = kd * sp0 + km * ip0; oq2 = kd * sq0 + km * iq0
+                            kd, km = K[k + 4 * C], complex(K[k + 25 * C], K[k + 46 * C])
+                            op1 += kd * sp2 + km * ip2; oq1 += kd * sq2 + km * iq2
+                            op2 += kd * sp1 + km * ip1; oq2 += kd * sq1 + km * iq1
+                            kd, km = K[k + 5 * C], complex(K[k + 26 * C], K[k + 47 * C])
+                            op2 += kd * sp2 + km * ip2; oq2 += kd * sq2 + km * iq2
+                            kd, km = K[k + 6 * C], complex(K[k + 27 * C], K[k + 48 * C])
+                            op0 += kd * sp3 + km * ip3; oq0 += kd * sq3 + km * iq3
+                            op3 = kd * sp0 + km * ip0; oq3 = kd * sq0 + km * iq0
+                            kd, km = K[k + 7 * C], complex(K[k + 28 * C], K[k + 49 * C])
+                            op1 += kd * sp3 + km * ip3; oq1 += kd * sq3 + km * iq3
+                            op3 += kd * sp1 + km * ip1; oq3 += kd * sq1 + km * iq1
+                            kd, km = K[k + 8 * C], complex(K[k + 29 * C], K[k + 50 * C])
+                            op2 += kd * sp3 + km * ip3; oq2 += kd * sq3 + km * iq3
+                            op3 += kd * sp2 + km * ip2; oq3 += kd * sq2 + km * iq2
+                            kd, km = K[k + 9 * C], complex(K[k + 30 * C], K[k + 51 * C])
+                            op3 += kd * sp3 + km * ip3; oq3 += kd * sq3 + km * iq3
+                            kd, km = K[k + 10 * C], complex(K[k + 31 * C], K[k + 52 * C])
+                            op0 += kd * sp4 + km * ip4; oq0 += kd * sq4 + km * iq4
+                            op4 = kd * sp0 + km * ip0; oq4 = kd * sq0 + km * iq0
+                            kd, km = K[k + 11 * C], complex(K[k + 32 * C], K[k + 53 * C])
+                            op1 += kd * sp4 + km * ip4; oq1 += kd * sq4 + km * iq4
+                            op4 += kd * sp1 + km * ip1; oq4 += kd * sq1 + km * iq1
+                            kd, km = K[k + 12 * C], complex(K[k + 33 * C], K[k + 54 * C])
+                            op2 += kd * sp4 + km * ip4; oq2 += kd * sq4 + km * iq4
+                            op4 += kd * sp2 + km * ip2; oq4 += kd * sq2 + km * iq2
+                            kd, km = K[k + 13 * C], complex(K[k + 34 * C], K[k + 55 * C])
+                            op3 += kd * sp4 + km * ip4; oq3 += kd * sq4 + km * iq4
+                            op4 += kd * sp3 + km * ip3; oq4 += kd * sq3 + km * iq3
+                            kd, km = K[k + 14 * C], complex(K[k + 35 * C], K[k + 56 * C])
+                            op4 += kd * sp4 + km * ip4; oq4 += kd * sq4 + km * iq4
+                            kd, km = K[k + 15 * C], complex(K[k + 36 * C], K[k + 57 * C])
+                            op0 += kd * sp5 + km * ip5; oq0 += kd * sq5 + km * iq5
+                            op5 = kd * sp0 + km * ip0; oq5 = kd * sq0 + km * iq0
+                            kd, km = K[k + 16 * C], complex(K[k + 37 * C], K[k + 58 * C])
+                            op1 += kd * sp5 + km * ip5; oq1 += kd * sq5 + km * iq5
+                            op5 += kd * sp1 + km * ip1; oq5 += kd * sq1 + km * iq1
+                            kd, km = K[k + 17 * C], complex(K[k + 38 * C], K[k + 59 * C])
+                            op2 += kd * sp5 + km * ip5; oq2 += kd * sq5 + km * iq5
+                            op5 += kd * sp2 + km * ip2; oq5 += kd * sq2 + km * iq2
+                            kd, km = K[k + 18 * C], complex(K[k + 39 * C], K[k + 60 * C])
+                            op3 += kd * sp5 + km * ip5; oq3 += kd * sq5 + km * iq5
+                            op5 += kd * sp3 + km * ip3; oq5 += kd * sq3 + km * iq3
+                            kd, km = K[k + 19 * C], complex(K[k + 40 * C], K[k + 61 * C])
+                            op4 += kd * sp5 + km * ip5; oq4 += kd * sq5 + km * iq5
+                            op5 += kd * sp4 + km * ip4; oq5 += kd * sq4 + km * iq4
+                            kd, km = K[k + 20 * C], complex(K[k + 41 * C], K[k + 62 * C])
+                            op5 += kd * sp5 + km * ip5; oq5 += kd * sq5 + km * iq5
+                            O[k], O[k + 6 * C] = op0.real, op0.imag; O[k + 1 * C], O[k + 7 * C] = op1.real, op1.imag
+                            O[k + 2 * C], O[k + 8 * C] = op2.real, op2.imag; O[k + 3 * C], O[k + 9 * C] = op3.real, op3.imag
+                            O[k + 4 * C], O[k + 10 * C] = op4.real, op4.imag; O[k + 5 * C], O[k + 11 * C] = op5.real, op5.imag
+                            O[k + 12 * C], O[k + 18 * C] = oq0.real, oq0.imag; O[k + 13 * C], O[k + 19 * C] = oq1.real, oq1.imag
+                            O[k + 14 * C], O[k + 20 * C] = oq2.real, oq2.imag; O[k + 15 * C], O[k + 21 * C] = oq3.real, oq3.imag
+                            O[k + 16 * C], O[k + 22 * C] = oq4.real, oq4.imag; O[k + 17 * C], O[k + 23 * C] = oq5.real, oq5.imag
+                        for c in range(6):
+                            gp, gq = g[p, c], g[q, c]
+                            a = np.uint64(2 * (((c * n1 + rows[p]) * n2 + columns[p]) * h + k0))
+                            s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
+                            for k in range(n):
+                                values[a + two * k], values[a + two * k + one] = gp * O[s0 + k], gp * O[s1 + k]
+                            if not same:
+                                b = np.uint64(2 * (((c * n1 + rows[q]) * n2 + columns[q]) * h + k0))
+                                s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
+                                for k in range(n):
+                                    values[b + two * k], values[b + two * k + one] = gq * O[s2 + k], gq * O[s3 + k]
 
     def surface_sum(total, kernels, factors, parity1, spectra, first):
-        planes, n1, h = spectra.shape
+        # the six planes of a layer at once: the total read and written once a layer, not six times (1.10 -> 0.98 ms
+        # for the rolling bench's 30 layers)
+        _, n1, h = spectra.shape
         half = n1 // 2
-        for p in range(planes):
-            factor = factors[first + p]
-            for i1 in range(n1):
-                j1 = i1 if i1 <= half else n1 - i1
-                g = factor * parity1[first + p] if i1 > half else factor
-                for k in range(h):
-                    total[i1, k] += g * (kernels[first + p, j1, k] * spectra[p, i1, k])
+        g = np.empty(6, dtype=np.complex128)
+        for i1 in range(n1):
+            j1 = i1 if i1 <= half else n1 - i1
+            for p in range(6):
+                g[p] = factors[first + p] * parity1[first + p] if i1 > half else factors[first + p]
+            g0, g1, g2, g3, g4, g5 = g[0], g[1], g[2], g[3], g[4], g[5]
+            K0, K1, K2 = kernels[first, j1], kernels[first + 1, j1], kernels[first + 2, j1]
+            K3, K4, K5 = kernels[first + 3, j1], kernels[first + 4, j1], kernels[first + 5, j1]
+            S0, S1, S2 = spectra[0, i1], spectra[1, i1], spectra[2, i1]
+            S3, S4, S5 = spectra[3, i1], spectra[4, i1], spectra[5, i1]
+            T = total[i1]
+            for k in range(h):
+                T[k] += (g0 * (K0[k] * S0[k]) + g1 * (K1[k] * S1[k]) + g2 * (K2[k] * S2[k])
+                         + g3 * (K3[k] * S3[k]) + g4 * (K4[k] * S4[k]) + g5 * (K5[k] * S5[k]))
 
     def surface_spread(out, kernels, factors, parity1, spectrum, first):
         planes, n1, h = out.shape
@@ -218,6 +222,43 @@ class _Loops:
                 for k in range(h):
                     out[p, i1, k] = g * (kernels[first + p, j1, k] * spectrum[i1, k])
 
+
+    def surface_planes(planes, field, layer, offset):
+        m1, m2 = field.shape[0], field.shape[1]
+        for c in range(6):
+            for i in range(m1):
+                for j in range(m2):
+                    planes[c, i, offset + j] = field[i, j, layer, c]
+
+    def surface_add(out, planes, layer, offset, scale, add):
+        m1, m2 = out.shape[0], out.shape[1]
+        for i in range(m1):
+            for j in range(m2):
+                for c in range(6):
+                    value = scale * planes[c, i, offset + j]
+                    out[i, j, layer, c] = out[i, j, layer, c] + value if add else value
+
+    def take_component(out, field, c, weight):
+        m1, m2, m3 = out.shape
+        for i in range(m1):
+            for j in range(m2):
+                for k in range(m3):
+                    out[i, j, k] = weight * field[i, j, k, c]
+
+    def put_component(out, values, c, weight):
+        m1, m2, m3 = out.shape[:3]
+        for i in range(m1):
+            for j in range(m2):
+                for k in range(m3):
+                    out[i, j, k, c] = weight * values[i, j, k]
+
+    def compliance(stress, poisson):
+        for i in range(stress.shape[0]):
+            trace = poisson * (stress[i, 0] + stress[i, 1] + stress[i, 2])
+            for c in range(6):
+                stress[i, c] *= 1.0 + poisson
+            for c in range(3):
+                stress[i, c] -= trace
 
     def fourier_apply(spectra, matrices, parity1, parity2, offset):
         _, n1, n2, h = spectra.shape
@@ -290,6 +331,32 @@ class NumpyLoops:
 
 
     @staticmethod
+    def surface_planes(planes, field, layer, offset):
+        planes[:, :, offset:offset + field.shape[1]] = np.moveaxis(field[:, :, layer, :], -1, 0)
+
+    @staticmethod
+    def surface_add(out, planes, layer, offset, scale, add):
+        values = scale * np.moveaxis(planes[:, :, offset:offset + out.shape[1]], 0, -1)
+        if add:
+            out[:, :, layer, :] += values
+        else:
+            out[:, :, layer, :] = values
+
+    @staticmethod
+    def take_component(out, field, c, weight):
+        np.multiply(field[:, :, :out.shape[2], c], weight, out=out)
+
+    @staticmethod
+    def put_component(out, values, c, weight):
+        np.multiply(values, weight, out=out[..., c])
+
+    @staticmethod
+    def compliance(stress, poisson):
+        trace = poisson * (stress[:, 0] + stress[:, 1] + stress[:, 2])
+        stress *= 1.0 + poisson
+        stress[:, :3] -= trace[:, None]
+
+    @staticmethod
     def fourier_apply(spectra, matrices, parity1, parity2, offset):
         n1, n2, h = spectra.shape[1:]
         matrices = matrices[:, :, offset:offset + h]
@@ -318,6 +385,9 @@ def fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, n
     return np.einsum("ac,...cb->...ab", left, kernel) + right
 
 
+#: The loops, by name.
+NAMES = ("stiffness", "surface_sum", "surface_spread", "surface_planes", "surface_add", "take_component",
+         "put_component", "compliance", "fourier_apply")
 _cache = {}
 
 
@@ -328,5 +398,5 @@ def loops():
     if "compiled" not in _cache:
         jit = _fused._cache["numba"].njit(cache=True, nogil=True, fastmath={"reassoc", "nsz", "nnan", "contract"})
         _cache["compiled"] = type("CompiledBoxLoops", (), {name: staticmethod(jit(getattr(_Loops, name)))
-                                                           for name in ("stiffness", "surface_sum", "surface_spread", "fourier_apply")})
+                                                           for name in NAMES})
     return _cache["compiled"]

@@ -20,6 +20,7 @@ inverse transforms acts on each ``q3`` alone (the passes of :mod:`framework.oper
 import numpy as np
 
 from .. import fft
+from ._box_loops import loops
 
 #: Applications planned by FFTW's estimate before the transforms are planned again by measurement (where asked):
 #: measuring costs more than it saves in a short solve (a 64^3 box: 1.6 s of planning for 85 instead of 107 ms
@@ -52,7 +53,7 @@ def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES):
     (m1, m2, _), (n1, n2, n3) = shape, fft_shape
     h = n3 // 2 + 1
     block = max(k1 - k0 for k0, k1 in q3_blocks(fft_shape, block_bytes))
-    return 8 * (2 * m1 * m2 * n3) + 16 * (7 * m1 * m2 * h) + 16 * 6 * n1 * n2 * block
+    return 8 * (2 * m1 * m2 * n3) + 16 * (6 * m1 * m2 * h) + 16 * 6 * n1 * n2 * block
 
 
 class BoxFFT:
@@ -82,7 +83,6 @@ class BoxFFT:
         self._lines_in = fft.zeros((m1, m2, n3))
         self._lines = fft.zeros((6, m1, m2, self.h), complex)         # the box's lines' spectra, all q3
         self._lines_out = fft.zeros((m1, m2, n3))
-        self._line_spectrum = fft.zeros((m1, m2, self.h), complex)
         self._buffers = {}          # a block of q3's spectra, by block size
         self._all_rows = {}         # every row's inverse along x2, by block size (a target's)
         self.measure, self.applications = effort == "FFTW_MEASURE", 0
@@ -95,12 +95,13 @@ class BoxFFT:
         self.effort = effort
         self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort)
                               for c in range(6)]
-        self._line_inverse = fft.Transform(self._line_spectrum, self._lines_out, axes=(2,), effort=effort)
+        self._line_inverse = [fft.Transform(self._lines[c], self._lines_out, axes=(2,), effort=effort)
+                              for c in range(6)]      # each from its component's spectra (which it overwrites)
         self._plans = {}
         for size in sorted({k1 - k0 for k0, k1 in self.blocks}, reverse=True):     # the first block's buffer first
             self._block_plans(size)
         if effort == "wisdom":      # measured if every transform was (none to plan again), else estimated
-            transforms = [*self._line_forward, self._line_inverse, *(t for plans in self._plans.values()
+            transforms = [*self._line_forward, *self._line_inverse, *(t for plans in self._plans.values()
                                                                      for t in plans[1:])]
             self.effort = ("FFTW_MEASURE" if all(t.effort == "FFTW_MEASURE" for t in transforms)
                            else "FFTW_ESTIMATE")
@@ -150,10 +151,10 @@ class BoxFFT:
             self._lines[:, :, :, k0:k1] = spectra[:, :m1, :m2]
         out = np.empty((m1, m2, m3, 6))
         scale = 1.0 / (n1 * n2 * n3)
+        passes = loops()
         for c in range(6):
-            self._line_spectrum[...] = self._lines[c]
-            self._line_inverse()
-            np.multiply(self._lines_out[:, :, :m3], scale * weights_out[c], out=out[..., c])
+            self._line_inverse[c]()
+            passes.put_component(out, self._lines_out[:, :, :m3], c, scale * weights_out[c])
         return out
 
     def _passes(self, field, spectral_pass, weights_in):
@@ -161,8 +162,9 @@ class BoxFFT:
         passed, and back along x1: yields ``(k0, k1, spectra, rows_inverse)`` (the box rows' transform back along
         x2), the padding zeroed again at the next block."""
         (m1, m2, m3) = self.shape
+        passes = loops()
         for c in range(6):
-            np.multiply(field[..., c], weights_in[c], out=self._lines_in[:, :, :m3])
+            passes.take_component(self._lines_in[:, :, :m3], field, c, weights_in[c])
             self._line_forward[c]()
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
@@ -208,5 +210,5 @@ class BoxFFT:
             forward()
             inverse()
             rows_inverse()
-        for _ in range(6):
-            self._line_inverse()
+        for c in range(6):
+            self._line_inverse[c]()

@@ -156,7 +156,7 @@ class BoxSurface:
         times the shear weights, see :meth:`HalfSpaceEigenstrain.surface_displacement`). Several kinds share
         the transforms of the field.
         """
-        (m1, m2), (f1, f2) = self.footprint_shape, self.position
+        m1, (f1, f2) = self.footprint_shape[0], self.position
         sums = []
         for kind in kinds:
             if kind == "traction":
@@ -168,7 +168,7 @@ class BoxSurface:
         totals = [np.zeros((self.fft_shape[0], self.fft_shape[1] // 2 + 1), complex) for _ in kinds]
         passes = loops()
         for layer in range(self.layers):
-            self._rows_in[:, :, f2:f2 + m2] = np.moveaxis(field[:, :, layer, :], -1, 0)
+            passes.surface_planes(self._rows_in, field, layer, f2)
             self._rows()
             self._columns_in[:, f1:f1 + m1] = self._rows_out
             self._columns()
@@ -189,11 +189,7 @@ class BoxSurface:
             self._back_columns()
             self._back_rows_in[...] = self._columns_out[:, f1:f1 + m1]
             self._back_rows()
-            values = np.moveaxis(self._back_rows_out[:, :, f2:f2 + m2], 0, -1)
-            if add_to is None:
-                np.multiply(values, scale, out=out[:, :, layer, :])
-            else:
-                out[:, :, layer, :] += scale * values
+            passes.surface_add(out, self._back_rows_out, layer, f2, scale, add_to is not None)
         return out
 
     def spectrum(self, field):

@@ -28,7 +28,7 @@ import numpy as np
 from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
-from ._box_loops import loops
+from ._box_loops import ENTRIES, loops
 from .box_fft import BoxFFT, q3_blocks
 from .box_surface import BoxSurface
 
@@ -418,9 +418,6 @@ def key_parities(key):
     """Parity (+1 even, -1 odd) along x1, x2, x3 of the potential derivative ``key``."""
     return np.array([1 - 2 * (key.count(axis) % 2) for axis in range(3)])
 
-
-#: The 21 entries ``a <= b`` of ``C : D``, in the order of the stored spectra.
-ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 
 #: Boxes of more FFT points than this plan their transforms by estimate; smaller ones measure once a run has
 #: used them :data:`~framework.operators.box_fft.MEASURE_AFTER` times (whole-lattice 3-D transforms: a
@@ -824,7 +821,8 @@ class HalfSpaceEigenstrain:
         # the traction is kept on the patch only: back to the surface, cut, and transformed again
         # in place: a 128^3 box's field is 100 MB, and a product held four of them
         surface.box_stress(surface.spectrum(surface.field(spectra[0])), add_to=stress)
-        strain = strain_from_stress(stress, self.poisson, out=stress)
+        strain = stress                # Hooke's law inverted in place (unit modulus)
+        passes.compliance(strain.reshape(-1, 6), self.poisson)
         if not displacement:
             return strain
         return strain, (self.spacing[2] * surface.field(spectra[1]) if shared
