@@ -161,6 +161,15 @@ def machine_memory():
     return total if total > 0 else None
 
 
+def resident_memory():
+    """This process's resident memory [bytes] (Linux's ``/proc/self/statm``), or 0 where unknown."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError, AttributeError):
+        return 0
+
+
 def _padding(grid):
     """How many times the FFT grid is larger than the grid: twice along each open axis (DC-FFT)."""
     return math.prod(1 if periodic else 2 for periodic in grid.periodic)
@@ -176,17 +185,24 @@ def _history_terms(material):
     return terms or None
 
 
-def _box_cuboids(grid, inclusions, margin):
-    """Cuboids of the inhomogeneities' box (0 without them)."""
+def _box(grid, inclusions, margin):
+    """The inhomogeneities' box ``(start, shape)`` (None without them)."""
     if not inclusions:
-        return 0
+        return None
     from .inclusions import InclusionSet
     from .inclusions.field import inclusion_box
     bodies = inclusions if isinstance(inclusions, InclusionSet) else InclusionSet(list(inclusions))
     if margin is None:  # as framework.inclusions.field.layout
         margin = 0.5 * max(max(body.semi_axes) for body in bodies)
-    _, shape = inclusion_box(grid, bodies, margin)
-    return math.prod(shape)
+    return inclusion_box(grid, bodies, margin)
+
+
+def _field_bytes(grid, start, shape):
+    """Memory of the inhomogeneities' stress field on the whole grid, the box anywhere on it (a rolling run's
+    moves it): :func:`framework.operators.eigenstrain_field.field_bytes`."""
+    from .operators.eigenstrain_field import field_bytes
+    extremes = [(0, 0), (grid.shape[0] - shape[0], grid.shape[1] - shape[1])]
+    return field_bytes(grid, start, shape, starts=extremes)
 
 
 def _steps(steps, total):
@@ -223,7 +239,8 @@ def estimate(grid, material, *, inclusions=None, margin=None, steps=1, solves=No
     padding = _padding(grid)
     solves = steps if solves is None else solves
     terms = _history_terms(material)
-    box = _box_cuboids(grid, inclusions, margin)
+    place = _box(grid, inclusions, margin)
+    box = math.prod(place[1]) if place else 0
     parts = {"the contact solver": cells * (CONTACT + CONTACT_PADDED * padding),
              "the recorded steps": cells * RECORD * steps + box * INCLUSION_RECORD * steps}
     if terms:
@@ -244,6 +261,8 @@ def estimate(grid, material, *, inclusions=None, margin=None, steps=1, solves=No
             parts["a volume's stresses"] = cuboids * VOLUME
         elif stressed:
             parts["the subsurface stresses"] = cuboids * STRESS
+        if stressed and box:
+            parts["the inhomogeneities' stress field"] = _field_bytes(grid, *place)
         seconds += cuboids * VOLUME_TIME * stressed
         per_volume = cuboids * ((VOLUME_FILE_SINGLE if output.single else VOLUME_FILE)
                                 + (VOLUME_FILE_INCLUSIONS if box else 0))

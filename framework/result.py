@@ -292,12 +292,27 @@ class Result:
         return value
 
     def _eigenstrain_field(self):
-        """The operator from the box's eigenstrains to the stress on the whole grid (built once)."""
+        """The operator from the box's eigenstrains to the stress on the whole grid (built once), refused before it
+        is built where its memory (:func:`~framework.operators.eigenstrain_field.field_bytes`) exceeds what this
+        machine has left."""
         if self._field_operator is None:
-            from .operators.eigenstrain_field import EigenstrainField
+            from . import resources
+            from .operators.eigenstrain_field import EigenstrainField, field_bytes
             start, shape, _ = self._layout()
+            starts = self._box_starts(start)
+            needs, total = field_bytes(self.grid, start, shape, starts), resources.machine_memory()
+            left = None if total is None else max(total - resources.resident_memory(), 0)
+            if left is not None and needs > left:
+                n1, n2 = self.grid.shape
+                raise ParameterError(
+                    f"stress: the inhomogeneities' field on the whole grid ({n1} x {n2} x {self.grid.layers} "
+                    f"cuboids, box {shape[0]} x {shape[1]} x {shape[2]}) needs about {resources.size(needs)} of "
+                    f"memory, more than the {resources.size(left)} this "
+                    f"machine has left of its {resources.size(total)}; expected a field that fits: a machine with "
+                    f"more memory, or a run on fewer cells or layers (the kernels span the grid, twice its size along "
+                    f"each axis)")
             self._field_operator = EigenstrainField(self.grid, self.material.poisson, start, shape,
-                                                    starts=self._box_starts(start), surface_stress=self._operator())
+                                                    starts=starts, surface_stress=self._operator())
         return self._field_operator
 
     def _box_starts(self, start):

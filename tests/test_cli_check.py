@@ -147,6 +147,24 @@ def test_the_estimate_grows_with_what_the_run_keeps():
     assert resources.machine_memory() > 2**28
 
 
+def test_the_estimate_holds_the_inclusions_stress_field_when_stresses_are_written():
+    """Volumes (or slices) of a run with inhomogeneities need their field on the whole grid
+    (EigenstrainField, kernels spanning the grid): its memory model, the box anywhere on the grid, is a part of the
+    estimate; without stresses written it is not."""
+    from framework import Grid, inclusions, materials
+    from framework.operators.eigenstrain_field import field_bytes
+    grid = Grid(shape=(64, 48), size=(1.6e-3, 1.2e-3), depth=0.5e-3, layers=20)
+    glass = inclusions.Ellipsoid(center=(0.0, 0.0, 0.2e-3), semi_axes=(0.1e-3,) * 3, material=materials.Elastic(70e9, 0.22))
+    elastic = materials.Elastic(young=3e9, poisson=0.35)
+    written = resources.estimate(grid, elastic, inclusions=[glass], output=scenario.Output(vtu=True))
+    quiet = resources.estimate(grid, elastic, inclusions=[glass], output=scenario.Output(vtu=False))
+    (start, shape) = resources._box(grid, [glass], None)
+    expected = field_bytes(grid, start, shape, [(0, 0), (64 - shape[0], 48 - shape[1])])
+    assert written.parts["the inhomogeneities' stress field"] == expected > field_bytes(grid, start, shape)
+    assert "the inhomogeneities' stress field" not in quiet.parts
+    assert written.memory - quiet.memory >= expected
+
+
 # --------------------------------------------------------------------------- physics refused at once
 
 

@@ -27,6 +27,8 @@ The box operator's Boussinesq correction takes the traction on a patch around th
 (:data:`~framework.operators.eigenstrain.PATCH_DEPTHS`); here it covers the grid, so in the box
 the two differ by what the patch leaves out (below ~1e-3 of the correction).
 """
+import math
+
 import numpy as np
 
 from .. import fft
@@ -42,6 +44,31 @@ def _largest_offset(size, first, last, extent):
     """Largest ``|target - source|`` in cuboids along an axis of ``size`` cuboids, the box of ``extent`` cuboids
     starting anywhere from ``first`` to ``last``."""
     return int(max(last + extent - 1, size - 1 - first))
+
+
+def field_bytes(grid, start, shape, starts=None):
+    """Memory an :class:`EigenstrainField` of the box ``start``, ``shape`` (and ``starts``, as its parameters) on
+    ``grid`` takes at its peak [bytes], told before it is built: the larger of its kernels' build (the keys' values
+    of one term beside the entries of both: 40 bytes per stored wavenumber) and a product (the kernels kept, 24
+    bytes per stored wavenumber, the transforms' buffers, the surface maps, Love's kernels of every depth and
+    three of the grid's stress fields: a product's terms and their sum)."""
+    limits = (*grid.shape, grid.layers)
+    places = [tuple(start[:2])] if starts is None else [tuple(s[:2]) for s in starts]
+    firsts = [min(s[0] for s in places), min(s[1] for s in places), start[2]]
+    lasts = [max(s[0] for s in places), max(s[1] for s in places), start[2]]
+    reach = tuple(_largest_offset(limits[a], firsts[a], lasts[a], shape[a]) for a in range(3))
+    lattice = tuple(fft.even_size(2 * r + 2) for r in reach)
+    wavenumbers = math.prod(n // 2 + 1 for n in lattice)
+    h = lattice[2] // 2 + 1
+    n1, n2, layers = limits
+    surface = math.prod(fft.even_size(2 * r + 1) // 2 + 1 for r in reach[:2])
+    transforms = (box_fft.buffer_bytes(shape, lattice) + 16 * 6 * n1 * n2 * h      # the target's lines, all q3
+                  + 16 * 6 * lattice[0] * lattice[1] * min(h, max(k1 - k0 for k0, k1 in box_fft.q3_blocks(lattice))))
+    build = 40 * len(ENTRIES) * wavenumbers
+    love = 8 * 6 * 2 * n1 * (n2 + 1) * layers                  # Love's kernels, a spectrum per depth
+    product = (24 * len(ENTRIES) * wavenumbers + transforms + 2 * 8 * 6 * shape[2] * surface + love
+               + 3 * 8 * 6 * n1 * n2 * layers)
+    return int(max(build, product))
 
 
 class EigenstrainField:
