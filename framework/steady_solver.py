@@ -96,6 +96,7 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
     pressure = np.array(initial, dtype=float)
     inner = max(1e-2 * options.residual_tolerance, 1e-13)   # GMRES gets no closer than rounding
     delta, converged = 0.0, False
+    z_field = y_field = None       # the last iteration's solutions on the grid (its warm start from the second on)
     for iteration in range(options.max_iterations):
         box = window(contact) if window is not None else whole
         cells = contact[box]
@@ -107,13 +108,12 @@ def solve_steady(apply, base_gap, *, cell_area, load, initial=None, options=Solv
             out = apply_window(field, box) if apply_window is not None and box != whole else apply(field)[box]
             return out[cells]
 
-        right_precondition = None
-        if precondition is not None and options.preconditioned:
-            def right_precondition(values, cells=cells):
-                field = precondition.input(cells.shape)    # written in place: the operator copies nothing
-                field[...] = 0.0
-                field[cells] = values
-                return precondition.apply(field, copy=False)[cells]
+        def preconditioned(values, cells=cells):
+            field = precondition.input(cells.shape)    # written in place: the operator copies nothing
+            field[...] = 0.0
+            field[cells] = values
+            return precondition.apply(field, copy=False)[cells]
+        right_precondition = preconditioned if precondition is not None and options.preconditioned else None
 
         size = int(cells.sum())
         try:
