@@ -11,12 +11,15 @@ machine, then
    20 cells per diameter, centre depth a, under a 128 x 128 contact grid of
    cubes a / 16 (32 layers, 2 a deep), the default box margin (half a
    semi-axis); the construction (the eigenstrain operator's spectra), the run,
-   the coupling iterations, the eigenstrain-operator products and the memory;
+   the coupling iterations, the eigenstrain-operator products and the memory; one
+   product beside its FFTs replayed alone (``rolling_inclusion.py``'s floor), and the
+   same steps without the inhomogeneity;
 2. ``solve_inclusions``'s two stages on boxes of n^3 cuboids (n = 64, and 128
    with ``--large``): a sphere of diameter n cells, margin 0, so the box is
    the sphere's bounding block, under a uniform uniaxial strain 1e-3 along
    x1; build = ``InclusionProblem`` (operator spectra, indicator,
-   preconditioner), solve = the GMRES solve at tolerance 1e-10, and memory.
+   preconditioner), solve = the GMRES solve at tolerance 1e-10, memory, and one
+   product beside its FFTs alone (best of 3).
 
 Memory: the process's peak resident size (``ru_maxrss``: it only grows, so
 each case reports the peak so far, cases in increasing size) and the peak of
@@ -43,6 +46,7 @@ from framework import inclusions, indenters, materials, reference, schedules  # 
 from framework.inclusions.field import InclusionProblem, strain_vector  # noqa: E402
 from elastic_hertz import machine  # noqa: E402
 from rolling import libraries  # noqa: E402
+from rolling_inclusion import product_and_floor  # noqa: E402
 
 STEEL = materials.Elastic(young=210e9, poisson=0.3)
 CARBIDE = materials.Elastic(young=600e9, poisson=0.22)
@@ -66,8 +70,10 @@ class traced:
         self.peak = tracemalloc.get_traced_memory()[1] / 2**30 if tracemalloc.is_tracing() else float("nan")
 
 
-def coupled_step(cells=128, diameter=20):
-    """Coupled static steps (the load, then 1.2 and 1.4 times it); their times, couplings, products and memory.
+def coupled_step(cells=128, diameter=20, with_body=True):
+    """Coupled static steps (the load, then 1.2 and 1.4 times it); their times, couplings, products, memory, and one
+    product of the box's operator beside its FFTs alone (best of 10, in turns); ``with_body=False``: the same steps
+    without the inhomogeneity (their times only).
 
     The first step carries what a process does once (numba's compiled passes loaded from its cache, FFTW's
     plans measured, the Fourier preconditioner's matrices): the further steps cost what a step costs.
@@ -78,7 +84,8 @@ def coupled_step(cells=128, diameter=20):
     sphere = inclusions.Ellipsoid(center=(0.0, 0.0, A), semi_axes=(diameter * cell / 2,) * 3, material=CARBIDE)
     begin = time.perf_counter()
     sim = fw.Simulation(grid=grid, material=STEEL, indenter=indenters.Sphere(radius=RADIUS),
-                        schedule=schedules.Static(load=[LOAD, 1.2 * LOAD, 1.4 * LOAD]), inclusions=[sphere])
+                        schedule=schedules.Static(load=[LOAD, 1.2 * LOAD, 1.4 * LOAD]),
+                        inclusions=[sphere] if with_body else None)
     build = time.perf_counter() - begin
     steps, records = [], []
     begin = time.perf_counter()
@@ -86,8 +93,12 @@ def coupled_step(cells=128, diameter=20):
         steps.append(time.perf_counter() - begin)
         records.append(record)
         begin = time.perf_counter()
+    if not with_body:
+        return dict(steps=steps)
     problem = sim._inclusion_problem
+    product, floor = product_and_floor(problem.operator, 10)
     return dict(build=build, steps=steps, couplings=[r.couplings for r in records], products=problem.problem.products,
+                product=product, floor=floor,
                 contact_iterations=int(records[0].iterations), box=problem.shape,
                 cells=int(np.count_nonzero(problem.indicator)), rss=peak_rss(), pressure=float(records[0].pressure.max()))
 
@@ -109,8 +120,10 @@ def box_solve(n):
         begin = time.perf_counter()
         solution = problem.problem.solve(applied, tolerance=1e-10)
         solve = time.perf_counter() - begin
+    product, floor = product_and_floor(problem.problem.operator, 3)
     return dict(box=problem.shape, cells=int(np.count_nonzero(problem.indicator)), build=build, solve=solve,
-                iterations=solution.iterations, residual=solution.residual, traced=memory.peak, rss=peak_rss())
+                iterations=solution.iterations, residual=solution.residual, traced=memory.peak, rss=peak_rss(),
+                product=product, floor=floor)
 
 
 def main():
@@ -134,6 +147,10 @@ def main():
               f"and planning), a further step (1.2 W, 1.4 W) {min(steps[1:]):.2f} s (goal <= 1.5 s; before this "
               f"version 5.9 s and 7.6 s); couplings per step {row['couplings']}, {row['products']} eigenstrain "
               f"products in all, contact (PK) iterations {row['contact_iterations']}")
+        plain = coupled_step(with_body=False)["steps"]
+        print(f"   one product {1e3 * row['product']:.1f} ms, its FFTs alone {1e3 * row['floor']:.1f} ms (ratio "
+              f"{row['product'] / row['floor']:.2f}); the same further step without the inhomogeneity "
+              f"{1e3 * min(plain[1:]):.0f} ms")
         print(f"   peak RSS {row['rss']:.3f} GiB; p_max {row['pressure'] / 1e9:.4g} GPa", flush=True)
     if args.traced:
         tracemalloc.start()
@@ -141,12 +158,12 @@ def main():
           "build + solve <= 5 s, 128^3 <= 90 s and <= 3 GiB; before this version 64^3: 17 s + 15 s, 2.1 GiB; "
           "128^3: 105 s + 328 s, 13.9 GiB")
     print(f"{'box':>14} {'incl. cells':>11} {'unknowns':>9} {'build s':>8} {'solve s':>8} {'GMRES':>6} "
-          f"{'residual':>9} {'traced GiB':>10} {'RSS GiB':>8}")
+          f"{'residual':>9} {'traced GiB':>10} {'RSS GiB':>8} {'product s':>9} {'its FFTs s':>10}")
     for n in sizes:
         row = box_solve(n)
         print(f"{'x'.join(map(str, row['box'])):>14} {row['cells']:>11} {6 * row['cells']:>9} {row['build']:>8.2f} "
               f"{row['solve']:>8.2f} {row['iterations']:>6} {row['residual']:>9.2e} {row['traced']:>10.3f} "
-              f"{row['rss']:>8.3f}", flush=True)
+              f"{row['rss']:>8.3f} {row['product']:>9.3f} {row['floor']:>10.3f}", flush=True)
 
 
 if __name__ == "__main__":
