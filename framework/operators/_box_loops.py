@@ -224,10 +224,11 @@ class _Loops:
 
 
     def surface_planes(planes, field, layer, offset):
+        # a cuboid's six components read together (one cache line of the field), written to six rows
         m1, m2 = field.shape[0], field.shape[1]
-        for c in range(6):
-            for i in range(m1):
-                for j in range(m2):
+        for i in range(m1):
+            for j in range(m2):
+                for c in range(6):
                     planes[c, i, offset + j] = field[i, j, layer, c]
 
     def surface_add(out, planes, layer, offset, scale, add):
