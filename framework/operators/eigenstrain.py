@@ -537,7 +537,7 @@ class HalfSpaceEigenstrain:
     transforms (:class:`~framework.operators.box_surface.BoxSurface`). Memory: the 21 + 21
     kernel spectra of the infinite-space and mirror terms are even or odd in ``q1`` and
     ``q2`` (and, for the first, in ``q3``), so an eighth and a quarter of them are stored
-    (36 bytes per point of the padded box, about 290 bytes per box cuboid), plus the six
+    (66 bytes per point of the padded box, 528 bytes per box cuboid), plus the six
     spectra of a product (half the padded points each, complex: 48 bytes per point) and the
     surface kernels (2 x 6 per layer, a quarter of the padded surface grid each).
 
