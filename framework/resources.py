@@ -44,7 +44,16 @@ STRESS = 300
 #: Per cuboid of the inhomogeneities' box: the eigenstrain operator's 42 spectra, the Krylov solver's basis and
 #: the fields of a coupled step. Measured 4.5 kB per cuboid between boxes of 17576 and 64000 cuboids.
 INCLUSION = 4500
-#: Per cuboid of the box and recorded step: its eigenstrains and total stresses (12 float64).
+#: A large box: the solver's basis, kept directions and block spectra stop growing at their caps (384, 768, 128 MiB),
+#: and what grows is the kernels (528 bytes a box cuboid) and the box's fields: INCLUSION_FIXED + INCLUSION_LARGE a
+#: cuboid where that is less than INCLUSION a cuboid. Measured peaks less the contact's: 2.93 GB at 2.1 million
+#: cuboids (a 128^3 solve), 4.4 GB at 2.6 million and 11.5 GB at 7.75 million (100 and 300 glass spheres rolled
+#: over, `bench/dispersion.py`), which INCLUSION alone put at 9.4, 11.9 and 35 GB: `check` refused the last on a
+#: 24 GB machine where it runs in 10.8 GiB.
+INCLUSION_FIXED = 0.9e9
+INCLUSION_LARGE = 1500
+#: Per cuboid inside the bodies and recorded step: its eigenstrains and total stresses (12 float64), the records
+#: keep them on the bodies' cuboids only (in a dispersion at 10 %, a tenth of the box's).
 INCLUSION_RECORD = 96
 #: Above this fraction of the machine's memory, ``check`` warns: the estimate is a model, the machine runs other
 #: processes, and a run that swaps takes days.
@@ -186,7 +195,8 @@ def _history_terms(material):
 
 
 def _box(grid, inclusions, margin):
-    """The inhomogeneities' box ``(start, shape)`` (None without them)."""
+    """The inhomogeneities' box and the cuboids inside them: ``(start, shape, inside)`` (None without them); ``inside``
+    from the bodies' volumes (at most the box's cuboids), not their staircase (a large box's takes seconds)."""
     if not inclusions:
         return None
     from .inclusions import InclusionSet
@@ -194,7 +204,10 @@ def _box(grid, inclusions, margin):
     bodies = inclusions if isinstance(inclusions, InclusionSet) else InclusionSet(list(inclusions))
     if margin is None:  # as framework.inclusions.field.layout
         margin = 0.5 * max(max(body.semi_axes) for body in bodies)
-    return inclusion_box(grid, bodies, margin)
+    start, shape = inclusion_box(grid, bodies, margin)
+    volume = sum(4.0 / 3.0 * math.pi * math.prod(body.semi_axes) for body in bodies)
+    inside = min(math.prod(shape), math.ceil(volume / (grid.spacing[0] * grid.spacing[1] * grid.layer_thickness)))
+    return start, shape, inside
 
 
 def _field_bytes(grid, start, shape):
@@ -240,17 +253,17 @@ def estimate(grid, material, *, inclusions=None, margin=None, steps=1, solves=No
     solves = steps if solves is None else solves
     terms = _history_terms(material)
     place = _box(grid, inclusions, margin)
-    box = math.prod(place[1]) if place else 0
+    box, inside = (math.prod(place[1]), place[2]) if place else (0, 0)
     parts = {"the contact solver": cells * (CONTACT + CONTACT_PADDED * padding),
-             "the recorded steps": cells * RECORD * steps + box * INCLUSION_RECORD * steps}
+             "the recorded steps": cells * RECORD * steps + inside * INCLUSION_RECORD * steps}
     if terms:
         parts["the material's history"] = cells * (HISTORY + HISTORY_TERM * terms)
     if box:
-        parts["the inhomogeneities' box"] = box * INCLUSION
+        parts["the inhomogeneities' box"] = min(box * INCLUSION, INCLUSION_FIXED + box * INCLUSION_LARGE)
     seconds = cells * (ITERATION + ITERATION_PADDED * padding) * (FIRST_ITERATIONS + ITERATIONS * max(solves - 1, 0))
     if box:
         seconds += (FIRST_COUPLINGS + COUPLINGS * max(solves - 1, 0)) * (COUPLING_TIME + COUPLING_CUBOID * box)
-    files = {"result.h5": (1, cells * RESULT_FILE * steps + box * INCLUSION_RECORD * steps)}
+    files = {"result.h5": (1, cells * RESULT_FILE * steps + inside * INCLUSION_RECORD * steps)}
     viz = False
     if output is not None:
         surfaces = _steps(output.steps, steps) if output.vtu else 0
@@ -262,7 +275,7 @@ def estimate(grid, material, *, inclusions=None, margin=None, steps=1, solves=No
         elif stressed:
             parts["the subsurface stresses"] = cuboids * STRESS
         if stressed and box:
-            parts["the inhomogeneities' stress field"] = _field_bytes(grid, *place)
+            parts["the inhomogeneities' stress field"] = _field_bytes(grid, *place[:2])
         seconds += cuboids * VOLUME_TIME * stressed
         per_volume = cuboids * ((VOLUME_FILE_SINGLE if output.single else VOLUME_FILE)
                                 + (VOLUME_FILE_INCLUSIONS if box else 0))

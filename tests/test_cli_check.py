@@ -1,5 +1,6 @@
 """`check` finds what `run` would fail on: missing extras, memory, bad physics; and prints the run's estimate."""
 import glob
+import math
 import os
 import re
 import sys
@@ -158,11 +159,32 @@ def test_the_estimate_holds_the_inclusions_stress_field_when_stresses_are_writte
     elastic = materials.Elastic(young=3e9, poisson=0.35)
     written = resources.estimate(grid, elastic, inclusions=[glass], output=scenario.Output(vtu=True))
     quiet = resources.estimate(grid, elastic, inclusions=[glass], output=scenario.Output(vtu=False))
-    (start, shape) = resources._box(grid, [glass], None)
+    start, shape, _ = resources._box(grid, [glass], None)
     expected = field_bytes(grid, start, shape, [(0, 0), (64 - shape[0], 48 - shape[1])])
     assert written.parts["the inhomogeneities' stress field"] == expected > field_bytes(grid, start, shape)
     assert "the inhomogeneities' stress field" not in quiet.parts
     assert written.memory - quiet.memory >= expected
+
+
+@pytest.mark.parametrize("count, cells, measured", [(100, 320, 4.24), (300, 480, 10.80)])
+def test_the_estimate_of_a_large_dispersion_is_near_its_measured_peak(count, cells, measured):
+    """The inclusion box's memory stops growing at INCLUSION a cuboid once the solver's caps are reached: the
+    estimate of bench/dispersion.py's runs (glass spheres of radius 0.1 mm at 10 % in a slab 1-7 radii deep, 8 cuboids
+    a radius, 2 Prony terms, 40 steps unrecorded) lies between their measured peak resident memory (README: 4.24 and
+    10.80 GiB) and 1.5 times it; INCLUSION alone put the 300 spheres at 35 GB, above this 24 GB machine."""
+    import numpy as np
+    from framework import Grid, inclusions, materials
+    radius, cell = 1e-4, 1e-4 / 8
+    side = np.sqrt(count * 4.0 / 3.0 * np.pi * radius ** 3 / 0.1 / (6 * radius))
+    ahead = 20 * cell
+    slab = ((-side / 2 + ahead, side / 2 + ahead), (-side / 2, side / 2), (radius, 7 * radius))
+    bodies = inclusions.random_dispersion(0.1, slab, radius, materials.Elastic(70e9, 0.22), gap=0.25 * radius, seed=0)
+    grid = Grid(shape=(cells, cells), size=(cells * cell, cells * cell), depth=64 * cell, layers=64)
+    matrix = materials.Viscoelastic.from_prony(e_inf=1e9, terms=[(1e9, 0.02), (1e9, 0.2)], poisson=0.35)
+    estimate = resources.estimate(grid, matrix, inclusions=bodies, steps=1, solves=41)
+    assert measured * 2**30 <= estimate.memory <= 1.5 * measured * 2**30
+    box = math.prod(resources._box(grid, bodies, None)[1])
+    assert box * resources.INCLUSION > 2 * estimate.memory
 
 
 # --------------------------------------------------------------------------- physics refused at once
