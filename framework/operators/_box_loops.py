@@ -52,7 +52,7 @@ class _Loops:
         # kernels into K; one loop computes a pair's (a wavenumber's and its reversal's) results into O, which go
         # back. Rows of one array at the constant pitch CHUNK let the compiler vectorise that loop (8 q3 at once:
         # rows of arrays that may alias at runtime distances needed too many alias checks, and complex values read
-        # in place kept it scalar): 6.1 -> 3.8 ms on the rolling bench's 60 x 64 x 31 lattice, 45 -> 27 ms on a
+        # in place kept it scalar): 6.1 -> 3.1-3.8 ms on the rolling bench's 60 x 64 x 31 lattice, 45 -> 27 ms on a
         # 128 x 128 x 65 half lattice, the same numbers. The copies index by unsigned offsets (numba wraps a signed
         # index that may be negative, which keeps a loop scalar). Unrolled for the 21 entries of ENTRIES (first,
         # second are theirs: the numpy form reads them).
