@@ -353,9 +353,8 @@ class NumpyLoops:
 
     @staticmethod
     def compliance(stress, poisson):
-        trace = poisson * (stress[:, 0] + stress[:, 1] + stress[:, 2])
-        stress *= 1.0 + poisson
-        stress[:, :3] -= trace[:, None]
+        from .eigenstrain import strain_from_stress      # (that module imports this one)
+        strain_from_stress(stress, poisson, out=stress)
 
     @staticmethod
     def fourier_apply(spectra, matrices, parity1, parity2, offset):
