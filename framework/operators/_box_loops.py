@@ -66,6 +66,7 @@ class _Loops:
         O = np.zeros(24 * C)    # the results, the same rows
         K = np.zeros(63 * C)    # rows: the 21 direct kernels, the 21 mirror kernels' real parts, their imaginary parts
         g, f = np.empty((4, 6)), np.empty(6)
+        offsets = np.empty((2, 6), dtype=np.uint64)  # where a pair's six components start in the spectra
         rows, columns = np.empty(4, dtype=np.int64), np.empty(4, dtype=np.int64)
         one, two = np.uint64(1), np.uint64(2)
         for i1 in range(half1 + 1):
@@ -95,8 +96,8 @@ class _Loops:
                         for c in range(6):
                             gp, gq = g[p, c], g[q, c]
                             f[c] = mirror_sign[c] * gp * gq     # the image: f times the other's conjugate, as copied
-                            a = np.uint64(2 * (((c * n1 + rows[p]) * n2 + columns[p]) * h + k0))
-                            b = np.uint64(2 * (((c * n1 + rows[q]) * n2 + columns[q]) * h + k0))
+                            offsets[0, c] = a = np.uint64(2 * (((c * n1 + rows[p]) * n2 + columns[p]) * h + k0))
+                            offsets[1, c] = b = np.uint64(2 * (((c * n1 + rows[q]) * n2 + columns[q]) * h + k0))
                             s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
                             s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
                             for k in range(n):
@@ -181,12 +182,11 @@ class _Loops:
                             O[k + 16 * C], O[k + 22 * C] = oq4.real, oq4.imag; O[k + 17 * C], O[k + 23 * C] = oq5.real, oq5.imag
                         for c in range(6):
                             gp, gq = g[p, c], g[q, c]
-                            a = np.uint64(2 * (((c * n1 + rows[p]) * n2 + columns[p]) * h + k0))
+                            a, b = offsets[0, c], offsets[1, c]
                             s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
                             for k in range(n):
                                 values[a + two * k], values[a + two * k + one] = gp * O[s0 + k], gp * O[s1 + k]
                             if not same:
-                                b = np.uint64(2 * (((c * n1 + rows[q]) * n2 + columns[q]) * h + k0))
                                 s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
                                 for k in range(n):
                                     values[b + two * k], values[b + two * k + one] = gq * O[s2 + k], gq * O[s3 + k]
