@@ -20,20 +20,27 @@ BOXES = [((24, 20), 10, (8, 6, 0), (7, 5, 4), False),       # touching the surfa
          ((40, 36), 16, (5, 9, 3), (9, 11, 6), False),      # off-centre, odd and even sides
          ((30, 30), 20, (11, 12, 9), (6, 5, 8), False),     # deep, tall
          ((40, 34), 14, (12, 8, 2), (9, 7, 5), True)]       # a box that moves over the grid
+# cuboids square in x1, x2: a square lattice and half the kernels stored (eigenstrain.box_lattice)
+SQUARE_BOXES = [((40, 40), 16, (5, 9, 3), (15, 16, 6), False),   # 30 x 32 padded -> 32 x 32
+                ((34, 30), 12, (4, 3, 2), (8, 8, 5), True)]      # square, moving
 
 
-def box_case(shape, layers, start, box, whole, average=True, starts=None):
-    grid = fw.Grid(shape=shape, size=(shape[0] * 1e-4, shape[1] * 1.1e-4), depth=layers * 0.9e-4, layers=layers)
+def box_case(shape, layers, start, box, whole, average=True, starts=None, square=False):
+    grid = fw.Grid(shape=shape, size=(shape[0] * 1e-4, shape[1] * (1e-4 if square else 1.1e-4)),
+                   depth=layers * 0.9e-4, layers=layers)
     return grid, HalfSpaceEigenstrain(grid, NU, start, box, whole_patch=whole, average=average, starts=starts)
 
 
-@pytest.mark.parametrize("case", BOXES)
+@pytest.mark.parametrize("case", BOXES + [(*box, "square") for box in SQUARE_BOXES])
 @pytest.mark.parametrize("average", [True, False])
 def test_product_equals_direct_sums_on_boxes_of_several_shapes(case, average):
     """Every term of the FFT product (infinite space, mirror, Boussinesq correction) against the direct corner
-    sums and Love sums over the same box, at cells in the corners and inside, to 1e-12 of the strain."""
-    grid, operator = box_case(*case, average=average)
-    if case[-1]:
+    sums and Love sums over the same box, at cells in the corners and inside, to 1e-12 of the strain; on cuboids
+    square in x1, x2 with half the kernels stored (the others read permuted), a box's sides equal or not."""
+    square = case[-1] == "square"
+    grid, operator = box_case(*case[:5], average=average, square=square)
+    assert operator.symmetric == square
+    if case[4]:
         operator.move((3, -2))
     rng = np.random.default_rng(7)
     eigen = rng.normal(size=(*operator.shape, 6)) * 1e-3
@@ -129,12 +136,15 @@ def test_every_code_path_gives_the_same_product(path):
 
 
 @pytest.mark.skipif(not _fused.numba_available(), reason="numba is not installed (the jit extra)")
-@pytest.mark.parametrize("lattice", [(60, 64, 31), (8, 6, 70), (10, 12, 1), (6, 10, 33), (4, 4, 9)])
-def test_compiled_box_loops_equal_their_numpy_forms(lattice):
+@pytest.mark.parametrize("lattice, symmetric", [((60, 64, 31), False), ((8, 6, 70), False), ((10, 12, 1), False),
+                                                 ((6, 10, 33), False), ((4, 4, 9), False), ((4, 4, 9), True),
+                                                 ((12, 12, 70), True), ((64, 64, 33), True)])
+def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
     """Each compiled loop of the eigenstrain operator on random fields equals its numpy form to rounding (1e-14):
     the stiffness pass on half lattices of one q3 up to more than two of its chunks (CHUNK), not whole vectors of 8
-    (its rows' ends are scratch); the surface sums and spreads; the copies between box fields, component lines and
-    surface planes; Hooke's law inverted."""
+    (its rows' ends are scratch), with every kernel stored or, on square lattices, half of them (read permuted for
+    q1 and q2 swapped); the surface sums and spreads; the copies between box fields, component lines and surface
+    planes; Hooke's law inverted."""
     from framework.operators import _box_loops
     n1, n2, h = lattice
     rng = np.random.default_rng(sum(lattice))
@@ -142,7 +152,8 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice):
     def complex_normal(*shape):
         return rng.normal(size=shape) + 1j * rng.normal(size=shape)
     spectra = complex_normal(6, n1, n2, h)
-    direct, mirror = rng.normal(size=(21, n1 // 2 + 1, n2 // 2 + 1, h)), complex_normal(21, n1 // 2 + 1, n2 // 2 + 1, h)
+    groups = _box_loops.kernel_groups(n1 // 2 + 1, n2 // 2 + 1, symmetric)[0]
+    direct, mirror = rng.normal(size=(21, len(groups), h)), complex_normal(21, len(groups), h)
     first, second = np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES])
     parity1, parity2 = np.array([1.0, -1, 1, -1, 1, -1]), np.array([1.0, 1, -1, -1, 1, 1])
     m1, m2, layers, width = max(2, n1 // 2), max(2, n2 // 2), 3, n2 + 5
@@ -159,7 +170,8 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice):
             out = [spectra.copy(), np.zeros((n1, h), complex), np.empty((6, n1, h), complex),
                    np.zeros((6, m1, width)), field.copy(), field.copy(), np.empty((m1, m2, layers)), np.empty_like(field),
                    field.reshape(-1, 6).copy()]
-            passes.stiffness(out[0], direct, mirror, first, second, parity1, parity2, np.array([1.0, 1, 1, -1, -1, 1]))
+            passes.stiffness(out[0], direct, mirror, groups, _box_loops.PERMUTATION, first, second, parity1, parity2,
+                             np.array([1.0, 1, 1, -1, -1, 1]))
             passes.surface_sum(out[1], kernels, factors, parities, surface, 6)
             passes.surface_spread(out[2], kernels, factors, parities, surface[0], 12)
             passes.surface_planes(out[3], field, 1, 4)

@@ -28,7 +28,7 @@ from ..errors import ConvergenceError, ParameterError, ShapeError
 from ..materials import isotropic_tensor
 from ..operators._box_loops import fourier_matrices, loops
 from ..operators.box_fft import buffer_bytes
-from ..operators.eigenstrain import COMPONENTS, MANDEL, padded_shape, cuboid_potentials, strain_from_potentials
+from ..operators.eigenstrain import COMPONENTS, MANDEL, cuboid_potentials, strain_from_potentials
 
 #: GMRES restart length: the Krylov basis holds this many vectors of 6 values per cuboid of the
 #: inhomogeneities (the preconditioned system converges in 5 to 30 iterations).
@@ -99,12 +99,11 @@ INNER_BYTES = 256 * 2**20
 OWN_LATTICE_GAP = 6
 
 
-def periodic_cell(shape, cells):
+def periodic_cell(own_shape, cells):
     """The Fourier preconditioner's periodic cell for bodies on the cuboids ``cells`` (``np.nonzero`` of an
-    indicator) of a box of ``shape``: ``"own"`` where their periodic images stay :data:`OWN_LATTICE_GAP` cuboids
-    apart on the box's own lattice (half its padded one), else ``"folded"`` (the box grown by a gap; the padded
+    indicator) of a box whose own lattice (half its padded one) is ``own_shape``: ``"own"`` where their periodic
+    images stay :data:`OWN_LATTICE_GAP` cuboids apart on it, else ``"folded"`` (the box grown by a gap; the padded
     lattice where that is no smaller)."""
-    own_shape = [n // 2 for n in padded_shape(shape)]
     own = len(cells[0]) > 0 and all(n - (np.ptp(c) + 1) >= OWN_LATTICE_GAP for n, c in zip(own_shape, cells))
     return "own" if own else "folded"
 
@@ -445,7 +444,7 @@ class EquivalentInclusionProblem:
         self._flat = np.ravel_multi_index(self.cells, operator.shape)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
-        self._lattice = periodic_cell(operator.shape, self.cells)
+        self._lattice = periodic_cell(operator.own_shape, self.cells)
         if self._lattice == "folded" and np.prod(operator.folded_shape) >= np.prod(operator.fft_shape):
             self._lattice = "padded"
         if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it

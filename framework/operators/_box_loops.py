@@ -41,23 +41,51 @@ ENTRIES = tuple((a, b) for b in range(6) for a in range(b + 1))
 #: Wavenumbers ``q3`` the compiled stiffness pass takes at a time: the pitch of its scratch rows (a multiple of 8,
 #: the vector loop's width).
 CHUNK = 32
+#: The entry of ``C : D`` that each entry of ENTRIES becomes when x1 and x2 swap (xx <-> yy, yz <-> xz): a kernel at
+#: ``(q2, q1)`` is the one at ``(q1, q2)`` with its entries so permuted, on a lattice and cuboids square in x1, x2.
+SWAP = (1, 0, 2, 4, 3, 5)
+PERMUTATION = np.array([ENTRIES.index(tuple(sorted((SWAP[a], SWAP[b])))) for a, b in ENTRIES], dtype=np.int64)
+
+
+def kernel_groups(q1, q2, symmetric):
+    """Which wavenumbers ``(i1, i2)`` (of ``q1, q2 >= 0``, ``q1 x q2`` of them) each stored kernel serves:
+    ``(groups, first, second)`` with ``groups (T, 2, 2)`` the stored kernel's ``(i1, i2)`` and, if ``symmetric``
+    (``q1 == q2``), the swapped ``(i2, i1)`` that reads it permuted (:data:`PERMUTATION`; ``-1`` where none: the
+    diagonal, or every kernel when not symmetric), and ``first, second`` the indices of the stored kernels in the
+    whole ``(q1, q2)`` arrays (``kernels[:, first, second]`` packs them: ``T = q (q + 1) / 2`` when symmetric,
+    ``q1 q2`` else)."""
+    if symmetric and q1 != q2:
+        raise ValueError(f"symmetric kernels need a square lattice, got {q1} x {q2} wavenumbers")
+    if symmetric:
+        first, second = np.triu_indices(q1)
+    else:
+        first, second = (index.ravel() for index in np.indices((q1, q2)))
+    groups = np.full((first.size, 2, 2), -1, dtype=np.int64)
+    groups[:, 0, 0], groups[:, 0, 1] = first, second
+    if symmetric:
+        off = first != second
+        groups[off, 1, 0], groups[off, 1, 1] = second[off], first[off]
+    return groups, first, second
 
 
 class _Loops:
     """The passes as loops, for numba."""
 
-    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
-        # The four wavenumbers +-q1, +-q2 that share a stored kernel value, a chunk of CHUNK q3 at a time: their
-        # six components (times their signs) are copied into the rows of S, real and imaginary parts apart, and the
-        # kernels into K; one loop computes a pair's (a wavenumber's and its reversal's) results into O, which go
-        # back. Rows of one array at the constant pitch CHUNK let the compiler vectorise that loop (8 q3 at once:
-        # rows of arrays that may alias at runtime distances needed too many alias checks, and complex values read
-        # in place kept it scalar): 6.1 -> 3.1-3.8 ms on the rolling bench's 60 x 64 x 31 lattice, 45 -> 27 ms on a
-        # 128 x 128 x 65 half lattice, the same numbers. The copies index by unsigned offsets (numba wraps a signed
-        # index that may be negative, which keeps a loop scalar). Unrolled for the 21 entries of ENTRIES (first,
-        # second are theirs: the numpy form reads them).
+    def stiffness(spectra, direct, mirror, groups, permutation, first, second, parity1, parity2, mirror_sign):
+        # The four wavenumbers +-q1, +-q2 that share a stored kernel value (a group), a chunk of CHUNK q3 at a time:
+        # their six components (times their signs) are copied into the rows of S, real and imaginary parts apart,
+        # and the kernels into K; one loop computes a pair's (a wavenumber's and its reversal's) results into O,
+        # which go back. Rows of one array at the constant pitch CHUNK let the compiler vectorise that loop (8 q3 at
+        # once: rows of arrays that may alias at runtime distances needed too many alias checks, and complex values
+        # read in place kept it scalar): 6.1 -> 3.1-3.8 ms on the rolling bench's 60 x 64 x 31 lattice, 45 -> 27 ms
+        # on a 128 x 128 x 65 half lattice, the same numbers. The copies index by unsigned offsets (numba wraps a
+        # signed index that may be negative, which keeps a loop scalar). Unrolled for the 21 entries of ENTRIES
+        # (first, second are theirs: the numpy form reads them).
+        # A stored kernel t serves the groups groups[t] (:func:`kernel_groups`): a second one, the first's with q1
+        # and q2 swapped, reads its 21 entries permuted (``permutation``), copied once more into K's second half:
+        # the kernels are read once for both, half the memory and half their traffic.
         _, n1, n2, h = spectra.shape
-        q1, q2 = direct.shape[1], direct.shape[2]
+        stored = direct.shape[1]
         values = spectra.reshape(-1).view(np.float64)          # real and imaginary parts, interleaved
         kernel, image = direct.reshape(-1), mirror.reshape(-1).view(np.float64)
         half1, half2 = n1 // 2, n2 // 2
@@ -65,39 +93,48 @@ class _Loops:
         S = np.zeros(24 * C)    # rows: the wavenumber's six real parts, its six imaginary parts, then its reversal's
         O = np.zeros(24 * C)    # the results, the same rows
         K = np.zeros(63 * C)    # rows: the 21 direct kernels, the 21 mirror kernels' real parts, their imaginary parts
-        g, f = np.empty((4, 6)), np.empty(6)
+        g, f = np.empty((2, 4, 6)), np.empty(6)
         offsets = np.empty((2, 6), dtype=np.uint64)  # where a pair's six components start in the spectra
-        rows, columns = np.empty(4, dtype=np.int64), np.empty(4, dtype=np.int64)
+        rows, columns = np.empty((2, 4), dtype=np.int64), np.empty((2, 4), dtype=np.int64)
+        pairs, same = np.empty(2, dtype=np.int64), np.empty(2, dtype=np.bool_)
         one, two = np.uint64(1), np.uint64(2)
-        for i1 in range(half1 + 1):
-            r1 = (n1 - i1) % n1
-            for i2 in range(half2 + 1):
-                r2 = (n2 - i2) % n2
+        for t in range(stored):
+            count_groups = 1 if groups[t, 1, 0] < 0 else 2
+            for group in range(count_groups):
+                i1, i2 = groups[t, group, 0], groups[t, group, 1]
+                r1, r2 = (n1 - i1) % n1, (n2 - i2) % n2
                 # two pairs (a wavenumber, its reversal) share the kernel at (i1, i2); one where a row or a
                 # column is its own reversal
-                rows[0], columns[0], rows[1], columns[1] = i1, i2, r1, r2
-                rows[2], columns[2], rows[3], columns[3] = i1, r2, r1, i2
-                pairs = 2 if i1 != r1 and i2 != r2 else 1
-                same = i1 == r1 and i2 == r2
+                rows[group, 0], columns[group, 0], rows[group, 1], columns[group, 1] = i1, i2, r1, r2
+                rows[group, 2], columns[group, 2], rows[group, 3], columns[group, 3] = i1, r2, r1, i2
+                pairs[group] = 2 if i1 != r1 and i2 != r2 else 1
+                same[group] = i1 == r1 and i2 == r2
                 for s in range(4):
                     for c in range(6):
-                        g[s, c] = (parity1[c] if rows[s] > half1 else 1.0) * (parity2[c] if columns[s] > half2 else 1.0)
-                for k0 in range(0, h, C):
-                    count = min(C, h - k0)
-                    n = np.uint64(count)
+                        g[group, s, c] = ((parity1[c] if rows[group, s] > half1 else 1.0)
+                                          * (parity2[c] if columns[group, s] > half2 else 1.0))
+            for k0 in range(0, h, C):
+                count = min(C, h - k0)
+                n = np.uint64(count)
+                for group in range(count_groups):
+                    # the kernels (a swapped group's entries permuted: their rows still in the caches)
                     for e in range(21):
-                        at = np.uint64(((e * q1 + i1) * q2 + i2) * h + k0)
+                        entry = e if group == 0 else permutation[e]
+                        at = np.uint64((entry * stored + t) * h + k0)
                         d, re, im = np.uint64(e * C), np.uint64((21 + e) * C), np.uint64((42 + e) * C)
                         for k in range(n):
                             K[d + k] = kernel[at + k]
                             K[re + k], K[im + k] = image[two * (at + k)], image[two * (at + k) + one]
-                    for pair in range(pairs):
+                    npairs, single = pairs[group], same[group]
+                    for pair in range(npairs):
                         p, q = 2 * pair, 2 * pair + 1
                         for c in range(6):
-                            gp, gq = g[p, c], g[q, c]
+                            gp, gq = g[group, p, c], g[group, q, c]
                             f[c] = mirror_sign[c] * gp * gq     # the image: f times the other's conjugate, as copied
-                            offsets[0, c] = a = np.uint64(2 * (((c * n1 + rows[p]) * n2 + columns[p]) * h + k0))
-                            offsets[1, c] = b = np.uint64(2 * (((c * n1 + rows[q]) * n2 + columns[q]) * h + k0))
+                            offsets[0, c] = a = np.uint64(2 * (((c * n1 + rows[group, p]) * n2 + columns[group, p]) * h
+                                                               + k0))
+                            offsets[1, c] = b = np.uint64(2 * (((c * n1 + rows[group, q]) * n2 + columns[group, q]) * h
+                                                               + k0))
                             s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
                             s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
                             for k in range(n):
@@ -174,19 +211,25 @@ class _Loops:
                             op5 += kd * sp4 + km * ip4; oq5 += kd * sq4 + km * iq4
                             kd, km = K[k + 20 * C], complex(K[k + 41 * C], K[k + 62 * C])
                             op5 += kd * sp5 + km * ip5; oq5 += kd * sq5 + km * iq5
-                            O[k], O[k + 6 * C] = op0.real, op0.imag; O[k + 1 * C], O[k + 7 * C] = op1.real, op1.imag
-                            O[k + 2 * C], O[k + 8 * C] = op2.real, op2.imag; O[k + 3 * C], O[k + 9 * C] = op3.real, op3.imag
-                            O[k + 4 * C], O[k + 10 * C] = op4.real, op4.imag; O[k + 5 * C], O[k + 11 * C] = op5.real, op5.imag
-                            O[k + 12 * C], O[k + 18 * C] = oq0.real, oq0.imag; O[k + 13 * C], O[k + 19 * C] = oq1.real, oq1.imag
-                            O[k + 14 * C], O[k + 20 * C] = oq2.real, oq2.imag; O[k + 15 * C], O[k + 21 * C] = oq3.real, oq3.imag
-                            O[k + 16 * C], O[k + 22 * C] = oq4.real, oq4.imag; O[k + 17 * C], O[k + 23 * C] = oq5.real, oq5.imag
+                            O[k], O[k + 6 * C] = op0.real, op0.imag
+                            O[k + 1 * C], O[k + 7 * C] = op1.real, op1.imag
+                            O[k + 2 * C], O[k + 8 * C] = op2.real, op2.imag
+                            O[k + 3 * C], O[k + 9 * C] = op3.real, op3.imag
+                            O[k + 4 * C], O[k + 10 * C] = op4.real, op4.imag
+                            O[k + 5 * C], O[k + 11 * C] = op5.real, op5.imag
+                            O[k + 12 * C], O[k + 18 * C] = oq0.real, oq0.imag
+                            O[k + 13 * C], O[k + 19 * C] = oq1.real, oq1.imag
+                            O[k + 14 * C], O[k + 20 * C] = oq2.real, oq2.imag
+                            O[k + 15 * C], O[k + 21 * C] = oq3.real, oq3.imag
+                            O[k + 16 * C], O[k + 22 * C] = oq4.real, oq4.imag
+                            O[k + 17 * C], O[k + 23 * C] = oq5.real, oq5.imag
                         for c in range(6):
-                            gp, gq = g[p, c], g[q, c]
+                            gp, gq = g[group, p, c], g[group, q, c]
                             a, b = offsets[0, c], offsets[1, c]
                             s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
                             for k in range(n):
                                 values[a + two * k], values[a + two * k + one] = gp * O[s0 + k], gp * O[s1 + k]
-                            if not same:
+                            if not single:
                                 s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
                                 for k in range(n):
                                     values[b + two * k], values[b + two * k + one] = gq * O[s2 + k], gq * O[s3 + k]
@@ -293,7 +336,9 @@ class NumpyLoops:
     """The same passes as numpy expressions."""
 
     @staticmethod
-    def stiffness(spectra, direct, mirror, first, second, parity1, parity2, mirror_sign):
+    def stiffness(spectra, direct, mirror, groups, permutation, first, second, parity1, parity2, mirror_sign):
+        direct = NumpyLoops.unpacked(direct, groups, permutation)
+        mirror = NumpyLoops.unpacked(mirror, groups, permutation)
         _, n1, n2, h = spectra.shape
         half1, half2 = n1 // 2, n2 // 2
         i2 = np.arange(n2)
@@ -312,6 +357,16 @@ class NumpyLoops:
                 if a != b:
                     out[b] += direct_row[e] * source[a] + mirror_row[e] * image[a]
             spectra[:, rows] = out * signs
+
+    @staticmethod
+    def unpacked(kernels, groups, permutation):
+        """Stored kernels ``(21, T, b)`` (:func:`kernel_groups`) as ``(21, q1, q2, b)`` for every ``q1, q2 >= 0``."""
+        q1, q2 = groups[..., 0].max() + 1, groups[..., 1].max() + 1
+        out = np.empty((kernels.shape[0], q1, q2, kernels.shape[-1]), dtype=kernels.dtype)
+        out[:, groups[:, 0, 0], groups[:, 0, 1]] = kernels
+        swapped = groups[:, 1, 0] >= 0
+        out[:, groups[swapped, 1, 0], groups[swapped, 1, 1]] = kernels[permutation][:, swapped]
+        return out
 
     @staticmethod
     def _expanded(kernels, factors, parity1, first, planes, n1):

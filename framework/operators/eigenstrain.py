@@ -23,12 +23,14 @@ In the half-space ``x3 >= 0`` (Chiu 1978; Liu & Wang 2005) the strain is the sum
 Strains are stored as ``(..., 6)`` arrays in Voigt order xx yy zz yz xz xy with *tensor* shears
 (``e_23``, not ``2 e_23``).
 """
+import math
+
 import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
-from ._box_loops import ENTRIES, loops
+from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_groups, loops
 from .box_fft import BoxFFT, q3_blocks
 from .box_surface import BoxSurface
 
@@ -443,7 +445,26 @@ def padded_shape(shape):
     return tuple(fft.even_size(2 * m) for m in shape)
 
 
-def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None, fold=None):
+#: A box of cuboids square in x1, x2 whose padded lattice is this close to square (its larger side over its smaller)
+#: takes the larger side along both: its kernels are then symmetric in q1, q2 (their entries permuted) and half of
+#: them are stored (:func:`~framework.operators._box_loops.kernel_groups`). The rolling bench's 30 x 31 footprint:
+#: 60 x 64 -> 64 x 64 points.
+SQUARE_LATTICE_RATIO = 1.1
+
+
+def box_lattice(shape, spacing):
+    """The padded lattice ``(N1, N2, N3)`` of a box of ``shape`` cuboids of sizes ``spacing`` [m], and whether its
+    kernels are symmetric in ``q1, q2`` (:data:`SQUARE_LATTICE_RATIO`; :func:`padded_shape` otherwise)."""
+    n1, n2, n3 = padded_shape(shape)
+    symmetric = (math.isclose(spacing[0], spacing[1], rel_tol=1e-12)
+                 and max(n1, n2) <= SQUARE_LATTICE_RATIO * min(n1, n2))
+    if symmetric:
+        n1 = n2 = max(n1, n2)
+    return (n1, n2, n3), bool(symmetric)
+
+
+def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, blocks=None, fold=None,
+                   fold_extent=None):
     """The 21 infinite-space kernels' real factors and the 21 mirror kernels' spectra of ``C : D``.
 
     Each ``(21, N1/2+1, N2/2+1, N3/2+1)`` (unit Young's modulus, Mandel basis) on the padded lattice
@@ -462,7 +483,8 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
 
     ``fold``, a lattice ``(L1, L2, L3)`` (even, each at least the offsets): the infinite-space kernels' real
     factors summed over its periods, ``(21, L1/2+1, L2/2+1, L3/2+1)``, from the same values
-    (:func:`~framework.operators.parity.folded_spectrum`), returned after the kernels as ``(kernels, folded)``.
+    (:func:`~framework.operators.parity.folded_spectrum`), returned after the kernels as ``(kernels, folded)``; of the
+    first ``fold_extent`` offsets along each axis where given (the box's, where ``faces`` reach beyond it).
     """
     n1, n2, n3 = fft_shape
     # Flipping the box along x3 (the mirror image's correlation) is, on the spectrum of a real
@@ -483,7 +505,7 @@ def kernel_spectra(faces, mirror_faces, place, depth, fft_shape, poisson, cell, 
         for index, (key, values) in enumerate(potential_kernel_items(faces[0], faces[1], faces3, cell=cell)):
             parities = key_parities(key)
             if folded is not None:
-                spectrum = values
+                spectrum = values if fold_extent is None else values[tuple(slice(0, m) for m in fold_extent)]
                 for axis in range(3):
                     spectrum = parity.folded_spectrum(spectrum, parities[axis], fold[axis], axis)
                 folded[index] = spectrum * parity.phase(parities).real
@@ -586,14 +608,25 @@ class HalfSpaceEigenstrain:
         self.spacing = (*grid.spacing, grid.layer_thickness)
         self.average = average
         self.depths = grid.x3[start[2]:start[2] + shape[2]]
-        self.fft_shape = padded_shape(shape)
+        self.fft_shape, self.symmetric = box_lattice(shape, self.spacing)
         # the kernels held a block of q3 at a time, each block contiguous (the pass streams one block per block
         # of spectra: strided slices of whole arrays read four times the memory, twice the time on 256^3)
         self.folded_shape = (tuple(min(n, fft.even_size(m + FOLDED_GAP)) for m, n in zip(shape, self.fft_shape))
                              if folded else self.fft_shape)
         fold = self.folded_shape if self.folded_shape != self.fft_shape else None
-        self._kernel_blocks, self._folded = self._box_spectra(self.spacing if average else None,
-                                                              q3_blocks(self.fft_shape), fold)
+        # on a square lattice (box_lattice) the kernels are symmetric in q1, q2 (the entries permuted): half of them
+        # stored, half the memory and their traffic in a product (a 64^3 box's pass 3.2 -> 2.1 ms)
+        quarter = [n // 2 + 1 for n in self.fft_shape[:2]]
+        self._groups, first, second = kernel_groups(*quarter, self.symmetric)
+        full_blocks, self._folded = self._box_spectra(self.spacing if average else None, q3_blocks(self.fft_shape),
+                                                      fold)
+        self._kernel_blocks = {}
+        for k0 in sorted(full_blocks):
+            direct, mirror = full_blocks.pop(k0)            # each block packed, then its whole arrays freed
+            self._kernel_blocks[k0] = tuple(np.ascontiguousarray(part[:, first, second]) if self.symmetric
+                                            else part.reshape(len(ENTRIES), -1, part.shape[-1])
+                                            for part in (direct, mirror))
+            del direct, mirror
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         # an entry's parity in x1 and x2 is the product of its two components' parities
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
@@ -622,10 +655,13 @@ class HalfSpaceEigenstrain:
         between the box's cuboids (:func:`kernel_spectra`), per block of q3 ``{k0: (direct, mirror)}``, and the
         infinite-space ones folded onto the lattice ``fold``."""
         m3, n3 = self.shape[2], self.fft_shape[2]
-        half_faces = [(np.arange(m + 1) - 0.5) * h for m, h in zip(self.shape, self.spacing)]
+        # symmetric: the offsets of the longer side along both (values the box's products never read on the other)
+        extent = [max(self.shape[:2])] * 2 + [m3] if self.symmetric else list(self.shape)
+        half_faces = [(np.arange(m + 1) - 0.5) * h for m, h in zip(extent, self.spacing)]
         mirror_faces = (2 * self.start[2] + np.arange(2 * m3) + 0.5) * self.spacing[2]
         place = (np.arange(2 * m3 - 1) - (m3 - 1)) % n3      # the mirror kernel's sums of depths, centred
-        spectra = kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell, blocks, fold)
+        spectra = kernel_spectra(half_faces, mirror_faces, place, m3, self.fft_shape, self.poisson, cell, blocks, fold,
+                                 fold_extent=self.shape)
         return spectra if fold is not None else (spectra, None)
 
     def _traction(self, faces1, faces2):
@@ -780,8 +816,12 @@ class HalfSpaceEigenstrain:
         return self._joined(1)
 
     def _joined(self, part):
-        blocks = [self._kernel_blocks[k0][part] for k0 in sorted(self._kernel_blocks)]
+        blocks = [self._unpacked(self._kernel_blocks[k0][part]) for k0 in sorted(self._kernel_blocks)]
         return blocks[0] if len(blocks) == 1 else np.concatenate(blocks, axis=-1)
+
+    def _unpacked(self, kernels):
+        """Stored kernels ``(21, T, b)`` as ``(21, N1/2+1, N2/2+1, b)`` (every ``q1, q2 >= 0``; a copy)."""
+        return NumpyLoops.unpacked(kernels, self._groups, PERMUTATION)
 
     def infinite_spectra(self, lattice="padded"):
         """The infinite-space term's kernels: real factors ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit
@@ -796,7 +836,8 @@ class HalfSpaceEigenstrain:
         self.lattice_shape(lattice)
         if lattice == "own":     # the even q3 of each block, without joining the blocks
             blocks = sorted(self._kernel_blocks.items())
-            direct = np.concatenate([block[0][:, ::2, ::2, k0 % 2::2] for k0, block in blocks], axis=-1)
+            direct = np.concatenate([self._unpacked(block[0][..., k0 % 2::2])[:, ::2, ::2] for k0, block in blocks],
+                                    axis=-1)
         elif lattice == "folded" and self._folded is not None:
             direct = self._folded
         else:
@@ -812,8 +853,9 @@ class HalfSpaceEigenstrain:
         eigenstrain = self._check(eigenstrain)
         passes = loops()
         stress = self._box_fft().apply(
-            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernel_blocks[k0], *self._entries,
-                                                                  *self._parities, MIRROR),
+            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernel_blocks[k0], self._groups,
+                                                                  PERMUTATION, *self._entries, *self._parities,
+                                                                  MIRROR),
             MANDEL, 1.0 / MANDEL)
         surface = self._surface
         shared = displacement and surface is self._grid_map()

@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from ._box_loops import loops
+from ._box_loops import PERMUTATION, kernel_groups, loops
 from . import box_fft
 from .box_surface import BoxSurface
 from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, kernel_spectra, surface_traction_kernels)
@@ -121,7 +121,9 @@ class EigenstrainField:
         self.reach = tuple(_largest_offset(limits[a], firsts[a], lasts[a], shape[a]) for a in range(3))
         self.fft_shape = tuple(fft.even_size(2 * r + 2) for r in self.reach)
         self._block_bytes = box_fft.BLOCK_BYTES          # the kernels' blocks of q3 and the transforms' the same
-        self._kernels = self._spectra()
+        self._kernels = {k0: tuple(part.reshape(len(ENTRIES), -1, part.shape[-1]) for part in block)
+                         for k0, block in self._spectra().items()}       # every (q1, q2 >= 0) stored, in order
+        self._groups = kernel_groups(*(n // 2 + 1 for n in self.fft_shape[:2]), False)[0]
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
                                for axis in range(2))
@@ -176,8 +178,9 @@ class EigenstrainField:
         target = [(np.arange(size) - s) % n for size, s, n in zip((*grid.shape, grid.layers), (s1, s2, self.start[2]),
                                                                    self.fft_shape)]
         return self._transforms().apply(
-            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernels[k0], *self._entries,
-                                                                  *self._parities, MIRROR),
+            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernels[k0], self._groups,
+                                                                  PERMUTATION, *self._entries, *self._parities,
+                                                                  MIRROR),
             MANDEL, 1.0 / MANDEL, target=target)
 
     def traction(self, eigenstrain, start=None):
