@@ -559,7 +559,9 @@ class HalfSpaceEigenstrain:
     transforms (:class:`~framework.operators.box_surface.BoxSurface`). Memory: the 21 + 21
     kernel spectra of the infinite-space and mirror terms are even or odd in ``q1`` and
     ``q2`` (and, for the first, in ``q3``), so an eighth and a quarter of them are stored
-    (66 bytes per point of the padded box, 528 bytes per box cuboid), plus the six
+    (66 bytes per point of the padded box, 528 bytes per box cuboid); on a square lattice
+    (:func:`box_lattice`: cuboids square in x1, x2) they are symmetric in ``q1, q2`` too and half of
+    them are stored (33 bytes a point, 264 a box cuboid), plus the six
     spectra of a product (half the padded points each, complex: 48 bytes per point) and the
     surface kernels (2 x 6 per layer, a quarter of the padded surface grid each).
 
