@@ -92,7 +92,7 @@ def test_kernels_held_in_blocks_give_the_same_product(monkeypatch):
     field = np.random.default_rng(3).normal(size=(9, 8, 7, 6))
     one = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
     monkeypatch.setattr(box_fft, "BLOCK_BYTES", 6 * 18 * 16 * 16 * 2)      # blocks of two q3
-    monkeypatch.setattr(eigenstrain, "q3_blocks", lambda shape: box_fft.q3_blocks(shape, box_fft.BLOCK_BYTES))
+    monkeypatch.setattr(eigenstrain, "q3_blocks", lambda shape, least: box_fft.q3_blocks(shape, box_fft.BLOCK_BYTES))
     several = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
     several._ffts["padded"] = box_fft.BoxFFT(several.shape, several.fft_shape, block_bytes=box_fft.BLOCK_BYTES)
     assert one.fft_shape == (18, 16, 16) and len(several._kernel_blocks) == 5      # q3 = 0 .. 8 by twos
@@ -144,3 +144,18 @@ def test_buffer_bytes_counts_the_buffers_a_box_fft_holds(block_bytes):
     box.apply(np.ones((5, 6, 7, 6)), lambda spectra, k0, k1: None)
     held = [box._lines_in, box._lines, box._lines_out, box._buffers[box.block]]
     assert box_fft.buffer_bytes((5, 6, 7), (10, 12, 14), **kwargs) == sum(a.nbytes for a in held)
+
+
+def test_blocks_hold_at_least_a_vector_of_q3():
+    """The eigenstrain operator's blocks of q3 hold at least LEAST_Q3 wavenumbers (one vector of its pass) where
+    BLOCK_BYTES would leave fewer (a wide lattice), all of them where there are fewer; the mechanism's default keeps
+    BLOCK_BYTES alone; buffer_bytes counts the larger block."""
+    from framework.operators import box_fft
+    wide = (744, 744, 120)                               # 300 glass spheres' lattice: 53 MB a q3
+    assert max(k1 - k0 for k0, k1 in box_fft.q3_blocks(wide)) == 2
+    blocks = box_fft.q3_blocks(wide, least=box_fft.LEAST_Q3)
+    assert blocks[0][0] == 0 and blocks[-1][1] == 61 and all(b[1] == c[0] for b, c in zip(blocks, blocks[1:]))
+    assert all(k1 - k0 == box_fft.LEAST_Q3 for k0, k1 in blocks[:-1])
+    assert box_fft.q3_blocks((744, 744, 10), least=box_fft.LEAST_Q3) == [(0, 6)]
+    assert (box_fft.buffer_bytes((372, 372, 56), wide, least=box_fft.LEAST_Q3)
+            - box_fft.buffer_bytes((372, 372, 56), wide)) == 16 * 6 * 744 * 744 * (box_fft.LEAST_Q3 - 2)

@@ -27,7 +27,7 @@ from scipy.linalg import solve_triangular
 from ..errors import ConvergenceError, ParameterError, ShapeError
 from ..materials import isotropic_tensor
 from ..operators._box_loops import fourier_matrices, loops
-from ..operators.box_fft import buffer_bytes
+from ..operators.box_fft import LEAST_Q3, buffer_bytes
 from ..operators.eigenstrain import COMPONENTS, MANDEL, cuboid_potentials, strain_from_potentials
 
 #: GMRES restart length: the Krylov basis holds this many vectors of 6 values per cuboid of the
@@ -365,7 +365,7 @@ class FourierPreconditioner:
         rows, columns = (n1 // 2 + 1, n2 // 2 + 1) if isotropic else (n1, n2)
         # the folded lattice's transforms count (a 128^3 box's: 272 MiB); the own lattice's, at most an eighth of the
         # product's lattice, were always taken (100 glass spheres at 8 cuboids per radius: 16 iterations, not 28)
-        transforms = buffer_bytes(operator.shape, shape) if lattice == "folded" else 0
+        transforms = buffer_bytes(operator.shape, shape, least=LEAST_Q3) if lattice == "folded" else 0
         limit = max(FOURIER_BYTES, FOURIER_CUBOID_BYTES * int(np.prod(operator.shape)))
         return rows * columns * (n3 // 2 + 1) * 36 * 8 * (2 if forward else 1) + transforms <= limit
 

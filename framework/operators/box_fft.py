@@ -35,24 +35,31 @@ MEASURE_AT_ONCE_POINTS = 2 ** 22
 #: Shorter blocks cost the spectral pass its runs along ``q3``: on a 256 x 256 x 256 lattice it takes
 #: 0.62 s a product in one block, 0.74 s in blocks of 65, 0.81-0.85 in blocks of 19-33, 1.3 s in blocks of 10.
 BLOCK_BYTES = 128 * 2**20
+#: The eigenstrain operator's blocks hold at least this many ``q3`` (one vector of its spectral pass) whatever their
+#: memory: on a wide lattice :data:`BLOCK_BYTES` left a few, and the pass, which runs along ``q3``, slowed to three
+#: times its speed on long runs (300 glass spheres' 744 x 744 x 120 lattice: blocks of 2, its pass 3.9 s against its
+#: transforms' 2.7 s; blocks of 8, 430 MB, 1.9 s: a product 10.4 -> 8.0 s).
+LEAST_Q3 = 8
 
 
-def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES):
+def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES, least=1):
     """The blocks ``[(k0, k1), ...]`` of ``q3`` wavenumbers (``0 .. N3/2``) whose six spectra on the lattice
-    ``fft_shape`` take at most ``block_bytes`` each, of even sizes (the passes like long runs)."""
+    ``fft_shape`` take at most ``block_bytes`` each, or hold ``least`` wavenumbers where that takes more, of even
+    sizes (the passes like long runs)."""
     n1, n2, n3 = fft_shape
     h = n3 // 2 + 1
-    largest = int(max(1, min(h, block_bytes // (6 * n1 * n2 * 16))))
+    largest = int(max(1, least, min(h, block_bytes // (6 * n1 * n2 * 16))))
+    largest = min(h, largest)
     size = -(-h // -(-h // largest))
     return [(k0, min(h, k0 + size)) for k0 in range(0, h, size)]
 
 
-def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES):
+def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1):
     """Memory of a :class:`BoxFFT`'s buffers [bytes]: the box's lines (in, out and their spectra) and one block of
     ``q3``'s spectra on the lattice."""
     (m1, m2, _), (n1, n2, n3) = shape, fft_shape
     h = n3 // 2 + 1
-    block = max(k1 - k0 for k0, k1 in q3_blocks(fft_shape, block_bytes))
+    block = max(k1 - k0 for k0, k1 in q3_blocks(fft_shape, block_bytes, least))
     return 8 * (2 * m1 * m2 * n3) + 16 * (6 * m1 * m2 * h) + 16 * 6 * n1 * n2 * block
 
 
@@ -71,13 +78,15 @@ class BoxFFT:
         applications, then measured).
     block_bytes : int
         Memory of the spectra of one block of ``q3`` [bytes].
+    least : int
+        Wavenumbers ``q3`` a block holds at least (:func:`q3_blocks`).
     """
 
-    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES):
+    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1):
         self.shape, self.fft_shape = tuple(shape), tuple(fft_shape)
         (m1, m2, _), (n1, n2, n3) = self.shape, self.fft_shape
         self.h = n3 // 2 + 1
-        self.blocks = q3_blocks(self.fft_shape, block_bytes)
+        self.blocks = q3_blocks(self.fft_shape, block_bytes, least)
         self.block = self.blocks[0][1]
         # along x3: the box's lines, zero-padded once (the padding is never written)
         self._lines_in = fft.zeros((m1, m2, n3))

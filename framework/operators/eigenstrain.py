@@ -31,7 +31,7 @@ from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
 from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_groups, loops
-from .box_fft import BoxFFT, q3_blocks
+from .box_fft import LEAST_Q3, BoxFFT, q3_blocks
 from .box_surface import BoxSurface
 
 #: The surface patch of the Boussinesq correction reaches this many box-bottom depths beyond the box.
@@ -620,8 +620,8 @@ class HalfSpaceEigenstrain:
         # stored, half the memory and their traffic in a product (a 64^3 box's pass 3.2 -> 2.1 ms)
         quarter = [n // 2 + 1 for n in self.fft_shape[:2]]
         self._groups, first, second = kernel_groups(*quarter, self.symmetric)
-        full_blocks, self._folded = self._box_spectra(self.spacing if average else None, q3_blocks(self.fft_shape),
-                                                      fold)
+        full_blocks, self._folded = self._box_spectra(self.spacing if average else None,
+                                                      q3_blocks(self.fft_shape, least=LEAST_Q3), fold)
         self._kernel_blocks = {}
         for k0 in sorted(full_blocks):
             direct, mirror = full_blocks.pop(k0)            # each block packed, then its whole arrays freed
@@ -677,7 +677,7 @@ class HalfSpaceEigenstrain:
         if lattice not in self._ffts:
             shape = self.lattice_shape(lattice)
             effort = "FFTW_MEASURE" if np.prod(shape) <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
-            self._ffts[lattice] = BoxFFT(self.shape, shape, effort=effort)
+            self._ffts[lattice] = BoxFFT(self.shape, shape, effort=effort, least=LEAST_Q3)
         return self._ffts[lattice]
 
     def _check(self, eigenstrain):
