@@ -50,8 +50,8 @@ INCLUSION = 4500
 #: cuboid. Measured peaks less the contact's, with every kernel stored: 2.93 GB at 2.1 million cuboids (a 128^3
 #: solve), 4.4 GB at 2.6 million and 11.5 GB at 7.75 million (100 and 300 glass spheres rolled over,
 #: `bench/dispersion.py`), which INCLUSION alone put at 9.4, 11.9 and 35 GB: `check` refused the last on a 24 GB
-#: machine where it runs in 10.8 GiB; with half of them 2.5, 3.6 and 9.2 GB (the estimate kept for the box that
-#: stores them all).
+#: machine where it runs in 10.8 GiB; with half of them (and blocks of at least 8 q3) 2.5, 3.7 and 9.6 GB (the
+#: estimate kept for the box that stores them all).
 INCLUSION_FIXED = 0.9e9
 INCLUSION_LARGE = 1500
 #: Per cuboid inside the bodies and recorded step: its eigenstrains and total stresses (12 float64), the records
