@@ -82,8 +82,9 @@ class _Loops:
         # signed index that may be negative, which keeps a loop scalar). Unrolled for the 21 entries of ENTRIES
         # (first, second are theirs: the numpy form reads them).
         # A stored kernel t serves the groups groups[t] (:func:`kernel_groups`): a second one, the first's with q1
-        # and q2 swapped, reads its 21 entries permuted (``permutation``), copied once more into K's second half:
-        # the kernels are read once for both, half the memory and half their traffic.
+        # and q2 swapped, copies its 21 entries into K permuted (``permutation``) from the rows the first just
+        # read (still in the caches): half the kernels' memory and traffic (a 64 x 64 x 33 half lattice's pass
+        # 3.2 -> 2.1 ms; keeping both copies in one scratch array indexed by group cost the loop its vectors).
         _, n1, n2, h = spectra.shape
         stored = direct.shape[1]
         values = spectra.reshape(-1).view(np.float64)          # real and imaginary parts, interleaved

@@ -48,8 +48,7 @@ def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES, least=1):
     sizes (the passes like long runs)."""
     n1, n2, n3 = fft_shape
     h = n3 // 2 + 1
-    largest = int(max(1, least, min(h, block_bytes // (6 * n1 * n2 * 16))))
-    largest = min(h, largest)
+    largest = int(min(h, max(1, least, block_bytes // (6 * n1 * n2 * 16))))
     size = -(-h // -(-h // largest))
     return [(k0, min(h, k0 + size)) for k0 in range(0, h, size)]
 
