@@ -656,3 +656,22 @@ def test_a_large_boxs_coupling_keeps_its_iterates_on_the_bodies(path, monkeypatc
         for name in ("pressure", "eigenstrain", "inclusion_stress"):
             a, b = getattr(whole.records[step], name), getattr(cells.records[step], name)
             assert np.abs(a - b).max() <= 1e-7 * np.abs(a).max()
+
+
+def test_square_boxes_store_half_the_kernels():
+    """Cuboids square in x1, x2 and a nearly square padded lattice (within SQUARE_LATTICE_RATIO): the lattice made
+    square and the kernels of q1 <= q2 stored, (Q + 1) / 2Q of them; cuboids that are not square, or a lattice
+    further from square, keep every kernel. The products agree with the direct sums
+    (test_product_equals_direct_sums_on_boxes_of_several_shapes)."""
+    from framework.operators.eigenstrain import box_lattice
+    assert box_lattice((30, 31, 30), (1.0, 1.0, 1.0)) == ((64, 64, 60), True)          # 60 x 64 -> 64 x 64
+    assert box_lattice((30, 31, 30), (1.0, 1.1, 1.0)) == ((60, 64, 60), False)
+    assert box_lattice((20, 31, 30), (1.0, 1.0, 1.0)) == ((40, 64, 60), False)
+    sizes = {}
+    for square in (False, True):
+        grid = fw.Grid(shape=(40, 40), size=(40e-4, 40e-4 * (1.0 if square else 1.1)), depth=16 * 0.9e-4, layers=16)
+        operator = HalfSpaceEigenstrain(grid, NU, (5, 9, 3), (15, 15, 6))
+        assert operator.symmetric == square and operator.fft_shape == (30, 30, 12)
+        sizes[square] = sum(part.nbytes for block in operator._kernel_blocks.values() for part in block)
+    q = 30 // 2 + 1
+    assert sizes[True] * 2 * q == sizes[False] * (q + 1)
