@@ -10,7 +10,8 @@ whole spectra, each a temporary). Here each is one loop:
                  the mirror image's spectra (``conj(s)`` at the reversed wavenumbers ``-q1, -q2``
                  times the component's mirror sign; the phase in ``q3`` is in ``K_mirror``). The 21 kernels of each
                  term are stored for ``q1, q2 >= 0`` only (each is even or odd in ``q1`` and ``q2``:
-                 a quarter of the memory); a wavenumber and its reversal share their kernel values,
+                 a quarter of the memory), on a square lattice for ``q1 <= q2`` only (:func:`kernel_groups`:
+                 an eighth); a wavenumber and its reversal share their kernel values,
                  so the loop takes them in pairs, which also lets it write in place.
 ``surface_sum``  ``total += sum_p kernels[p] * spectra[p]``: the sum over a box's layers and
                  components that gives a surface field's spectrum (the kernels stored for
