@@ -50,10 +50,12 @@ INCLUSION = 4500
 #: cuboid. Measured peaks less the contact's, with every kernel stored: 2.93 GB at 2.1 million cuboids (a 128^3
 #: solve), 4.4 GB at 2.6 million and 11.5 GB at 7.75 million (100 and 300 glass spheres rolled over,
 #: `bench/dispersion.py`), which INCLUSION alone put at 9.4, 11.9 and 35 GB: `check` refused the last on a 24 GB
-#: machine where it runs in 10.8 GiB; with half of them (and blocks of at least 8 q3) 2.5, 3.7 and 9.6 GB (the
-#: estimate kept for the box that stores them all).
+#: machine where it runs in 10.8 GiB. A box whose cuboids are square in x1, x2 stores half its kernels
+#: (`eigenstrain.box_lattice`) and grows by INCLUSION_LARGE_SQUARE a cuboid: measured with blocks of at least 8 q3,
+#: 3.7 and 9.6 GB for the 100 and 300 spheres (1060 and 1120 bytes a cuboid past INCLUSION_FIXED).
 INCLUSION_FIXED = 0.9e9
 INCLUSION_LARGE = 1500
+INCLUSION_LARGE_SQUARE = 1250
 #: Per cuboid inside the bodies and recorded step: its eigenstrains and total stresses (12 float64), the records
 #: keep them on the bodies' cuboids only (in a dispersion at 10 %, a tenth of the box's).
 INCLUSION_RECORD = 96
@@ -256,12 +258,16 @@ def estimate(grid, material, *, inclusions=None, margin=None, steps=1, solves=No
     terms = _history_terms(material)
     place = _box(grid, inclusions, margin)
     box, inside = (math.prod(place[1]), place[2]) if place else (0, 0)
+    if box:
+        from .operators.eigenstrain import box_lattice
+        square = box_lattice(place[1], (*grid.spacing, grid.layer_thickness))[1]
+        large = INCLUSION_LARGE_SQUARE if square else INCLUSION_LARGE
     parts = {"the contact solver": cells * (CONTACT + CONTACT_PADDED * padding),
              "the recorded steps": cells * RECORD * steps + inside * INCLUSION_RECORD * steps}
     if terms:
         parts["the material's history"] = cells * (HISTORY + HISTORY_TERM * terms)
     if box:
-        parts["the inhomogeneities' box"] = min(box * INCLUSION, INCLUSION_FIXED + box * INCLUSION_LARGE)
+        parts["the inhomogeneities' box"] = min(box * INCLUSION, INCLUSION_FIXED + box * large)
     seconds = cells * (ITERATION + ITERATION_PADDED * padding) * (FIRST_ITERATIONS + ITERATIONS * max(solves - 1, 0))
     if box:
         seconds += (FIRST_COUPLINGS + COUPLINGS * max(solves - 1, 0)) * (COUPLING_TIME + COUPLING_CUBOID * box)
