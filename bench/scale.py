@@ -24,7 +24,6 @@ YOUNG, POISSON, RADIUS, SIDE = 1e9, 0.3, 10e-3, 2e-3
 
 
 def hertz(n, periodic):
-    import numpy as np
     import framework as fw
     from framework import indenters, materials, reference, schedules
     contact_modulus = YOUNG / (1 - POISSON**2)

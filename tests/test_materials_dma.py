@@ -9,7 +9,6 @@ synthetic DMA data from known Prony series and known WLF constants.
 import json
 import math
 import os
-import runpy
 import warnings
 
 import numpy as np

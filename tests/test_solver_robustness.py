@@ -58,7 +58,7 @@ def test_love_influence_against_quadrature():
 
 def periodic_influence(grid):
     """Real-space influence of one cell on a doubly periodic grid: ``(1/N) sum_q (2/|q|) e^{i q x}``."""
-    (n1, n2), (dx1, dx2) = grid.shape, grid.spacing
+    n1, n2 = grid.shape
     m1, m2 = np.fft.fftfreq(n1) * n1, np.fft.fftfreq(n2) * n2
     q = np.hypot(*np.meshgrid(2 * np.pi * m1 / grid.size[0], 2 * np.pi * m2 / grid.size[1], indexing="ij"))
     spectrum = np.where(q > 0, 2.0 / np.where(q > 0, q, 1.0), 0.0)

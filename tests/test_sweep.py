@@ -379,8 +379,8 @@ def test_scenario_builder_errors_name_the_key(key, value, message):
 def test_read_sweep_file(tmp_path):
     (tmp_path / "cases").mkdir()
     (tmp_path / "cases" / "sweep.toml").write_text(
-        f'scenario = "../base.toml"\nfolder = "results"\n[parameters]\nmaterial.young = [1e9, 2e9]\n'
-        f'"indenter.radius" = [1e-3]\n')
+        'scenario = "../base.toml"\nfolder = "results"\n[parameters]\nmaterial.young = [1e9, 2e9]\n'
+        '"indenter.radius" = [1e-3]\n')
     (tmp_path / "base.toml").write_text(
         '[grid]\nshape = [17, 17]\nsize = [1e-3, 1e-3]\n[material]\ntype = "Elastic"\nyoung = 1e9\npoisson = 0.3\n'
         '[indenter]\ntype = "Sphere"\nradius = 5e-3\n[schedule]\nload = 1.0\n')
