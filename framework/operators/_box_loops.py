@@ -364,9 +364,11 @@ class NumpyLoops:
     def unpacked(kernels, groups, permutation):
         """Stored kernels ``(21, T, b)`` (:func:`kernel_groups`) as ``(21, q1, q2, b)`` for every ``q1, q2 >= 0``."""
         q1, q2 = groups[..., 0].max() + 1, groups[..., 1].max() + 1
+        swapped = groups[:, 1, 0] >= 0
+        if not swapped.any() and np.array_equal(groups[:, 0, 0] * q2 + groups[:, 0, 1], np.arange(q1 * q2)):
+            return kernels.reshape(kernels.shape[0], q1, q2, kernels.shape[-1])      # every kernel, in order
         out = np.empty((kernels.shape[0], q1, q2, kernels.shape[-1]), dtype=kernels.dtype)
         out[:, groups[:, 0, 0], groups[:, 0, 1]] = kernels
-        swapped = groups[:, 1, 0] >= 0
         out[:, groups[swapped, 1, 0], groups[swapped, 1, 1]] = kernels[permutation][:, swapped]
         return out
 

@@ -822,7 +822,8 @@ class HalfSpaceEigenstrain:
         return blocks[0] if len(blocks) == 1 else np.concatenate(blocks, axis=-1)
 
     def _unpacked(self, kernels):
-        """Stored kernels ``(21, T, b)`` as ``(21, N1/2+1, N2/2+1, b)`` (every ``q1, q2 >= 0``; a copy)."""
+        """Stored kernels ``(21, T, b)`` as ``(21, N1/2+1, N2/2+1, b)`` (every ``q1, q2 >= 0``; a copy where half of
+        them are stored, else the stored array itself)."""
         return NumpyLoops.unpacked(kernels, self._groups, PERMUTATION)
 
     def infinite_spectra(self, lattice="padded"):
