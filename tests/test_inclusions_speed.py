@@ -7,7 +7,6 @@ import framework as fw
 from framework import _fused, fft, inclusions, indenters, loads, materials, schedules
 from framework.inclusions import equivalent
 from framework.inclusions.field import InclusionProblem
-from framework.operators.box_fft import LEAST_Q3, buffer_bytes
 from framework.operators.eigenstrain import (ENTRIES, FOLDED_GAP, HalfSpaceEigenstrain, _stiffness_coefficients,
                                              potential_kernel_items, stress_from_strain)
 from framework.operators.kernels import subsurface_stress
@@ -570,8 +569,7 @@ def test_a_large_box_may_give_its_preconditioner_memory_by_the_cuboid(monkeypatc
         lattice = problem.operator.lattice_shape(problem._lattice)
         n1, n2, n3 = lattice
         needed = (2 * (n1 // 2 + 1) * (n2 // 2 + 1) * (n3 // 2 + 1) * 36 * 8      # the inverse and the operator
-                  + (buffer_bytes(problem.operator.shape, lattice, least=LEAST_Q3) if problem._lattice == "folded"
-                     else 0))
+                  + (problem.operator.transform_bytes("folded") if problem._lattice == "folded" else 0))
         assert (needed <= per_cuboid * np.prod(problem.operator.shape)) == (per_cuboid > 0)
         assert (problem.preconditioner, problem.inner) == (("fourier", True) if per_cuboid else ("local", False))
         problem.recycled.kept = 0

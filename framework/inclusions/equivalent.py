@@ -27,7 +27,6 @@ from scipy.linalg import solve_triangular
 from ..errors import ConvergenceError, ParameterError, ShapeError
 from ..materials import isotropic_tensor
 from ..operators._box_loops import fourier_matrices, loops
-from ..operators.box_fft import LEAST_Q3, buffer_bytes
 from ..operators.eigenstrain import COMPONENTS, MANDEL, cuboid_potentials, strain_from_potentials
 
 #: GMRES restart length: the Krylov basis holds this many vectors of 6 values per cuboid of the
@@ -359,13 +358,13 @@ class FourierPreconditioner:
         """Whether the matrices for these inhomogeneities' stiffnesses (Mandel), twice as many with ``forward``, and
         the transforms on the folded lattice, take at most :data:`FOURIER_BYTES`, or :data:`FOURIER_CUBOID_BYTES` per
         box cuboid where that is more."""
-        n1, n2, n3 = shape = operator.lattice_shape(lattice)
+        n1, n2, n3 = operator.lattice_shape(lattice)
         isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
                         for p in operator.kernel_parities for c in stiffnesses)
         rows, columns = (n1 // 2 + 1, n2 // 2 + 1) if isotropic else (n1, n2)
         # the folded lattice's transforms count (a 128^3 box's: 272 MiB); the own lattice's, at most an eighth of the
         # product's lattice, were always taken (100 glass spheres at 8 cuboids per radius: 16 iterations, not 28)
-        transforms = buffer_bytes(operator.shape, shape, least=LEAST_Q3) if lattice == "folded" else 0
+        transforms = operator.transform_bytes(lattice) if lattice == "folded" else 0
         limit = max(FOURIER_BYTES, FOURIER_CUBOID_BYTES * int(np.prod(operator.shape)))
         return rows * columns * (n3 // 2 + 1) * 36 * 8 * (2 if forward else 1) + transforms <= limit
 

@@ -31,7 +31,7 @@ from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
 from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_groups, loops
-from .box_fft import LEAST_Q3, BoxFFT, q3_blocks
+from .box_fft import LEAST_Q3, BoxFFT, buffer_bytes, q3_blocks
 from .box_surface import BoxSurface
 
 #: The surface patch of the Boussinesq correction reaches this many box-bottom depths beyond the box.
@@ -679,6 +679,10 @@ class HalfSpaceEigenstrain:
             effort = "FFTW_MEASURE" if np.prod(shape) <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
             self._ffts[lattice] = BoxFFT(self.shape, shape, effort=effort, least=LEAST_Q3)
         return self._ffts[lattice]
+
+    def transform_bytes(self, lattice="padded"):
+        """Memory of the buffers of :meth:`_box_fft` on ``lattice`` [bytes], told before they are made."""
+        return buffer_bytes(self.shape, self.lattice_shape(lattice), least=LEAST_Q3)
 
     def _check(self, eigenstrain):
         expected = (*self.shape, 6)
