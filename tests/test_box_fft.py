@@ -32,7 +32,7 @@ def test_pruned_transforms_equal_the_whole_lattices(shape, fft_shape, blocks):
 
     def spectral_pass(spectra, k0, k1):
         seen.append((k0, k1))
-        spectra *= factor[..., k0:k1]
+        spectra *= np.moveaxis(factor[..., k0:k1], 0, 2)     # laid out (N1, N2, 6, b)
 
     out = box.apply(field, spectral_pass, weights_in, weights_out)
     assert seen[0][0] == 0 and seen[-1][1] == h and all(a[1] == b[0] for a, b in zip(seen, seen[1:]))
@@ -66,7 +66,7 @@ def test_pruned_transforms_onto_a_target_equal_the_whole_lattices(shape, fft_sha
     target = [(np.arange(size) - s) % n for size, s, n in zip(target_shape, place, fft_shape)]
 
     def spectral_pass(spectra, k0, k1):
-        spectra *= factor[..., k0:k1]
+        spectra *= np.moveaxis(factor[..., k0:k1], 0, 2)     # laid out (N1, N2, 6, b)
 
     out = box.apply(field, spectral_pass, weights_in, weights_out, target=target)
     assert out.shape == (*target_shape, 6)

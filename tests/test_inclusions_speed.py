@@ -150,7 +150,7 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
 
     def complex_normal(*shape):
         return rng.normal(size=shape) + 1j * rng.normal(size=shape)
-    spectra = complex_normal(6, n1, n2, h)
+    spectra = complex_normal(n1, n2, 6, h)            # a block of q3 (N1, N2, 6, b), as BoxFFT lays it out
     groups = _box_loops.kernel_groups(n1 // 2 + 1, n2 // 2 + 1, symmetric)[0]
     direct, mirror = rng.normal(size=(21, len(groups), h)), complex_normal(21, len(groups), h)
     first, second = np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES])

@@ -6,7 +6,8 @@ whole spectra, each a temporary). Here each is one loop:
 
 ===============  ==================================================================================
 ``stiffness``    ``s <- K_direct s + K_mirror m`` in place on the six spectra ``s`` of a box (or of a block
-                 of ``q3``, with the kernels of that block), ``m``
+                 of ``q3``, with the kernels of that block; ``(N1, N2, 6, b)``: a wavenumber's six components
+                 side by side, :mod:`~framework.operators.box_fft`), ``m``
                  the mirror image's spectra (``conj(s)`` at the reversed wavenumbers ``-q1, -q2``
                  times the component's mirror sign; the phase in ``q3`` is in ``K_mirror``). The 21 kernels of each
                  term are stored for ``q1, q2 >= 0`` only (each is even or odd in ``q1`` and ``q2``:
@@ -93,7 +94,7 @@ class _Loops:
         # products a pair instead of twelve, in two sweeps of 24 live values (the real parts of the first sum and
         # the imaginary parts of the second, then the others), K holding (A + Br) / 2, (A - Br) / 2 and Bi / 2:
         # a 128 x 128 x 65 half lattice's pass 24.8 -> 22.3 ms, the static bench's product 1.46-1.51 -> 1.41 its FFTs.
-        _, n1, n2, h = spectra.shape
+        n1, n2, _, h = spectra.shape
         stored = direct.shape[1]
         values = spectra.reshape(-1).view(np.float64)          # real and imaginary parts, interleaved
         kernel, image = direct.reshape(-1), mirror.reshape(-1).view(np.float64)
@@ -151,9 +152,9 @@ class _Loops:
                         for c in range(6):
                             gp, gq = g[group, p, c], g[group, q, c]
                             f[c] = mirror_sign[c] * gp * gq     # the image: f times the other's conjugate, as copied
-                            offsets[0, c] = a = np.uint64(2 * (((c * n1 + rows[group, p]) * n2 + columns[group, p]) * h
+                            offsets[0, c] = a = np.uint64(2 * (((rows[group, p] * n2 + columns[group, p]) * 6 + c) * h
                                                                + k0))
-                            offsets[1, c] = b = np.uint64(2 * (((c * n1 + rows[group, q]) * n2 + columns[group, q]) * h
+                            offsets[1, c] = b = np.uint64(2 * (((rows[group, q] * n2 + columns[group, q]) * 6 + c) * h
                                                                + k0))
                             s0, s1 = np.uint64(c * C), np.uint64((6 + c) * C)
                             s2, s3 = np.uint64((12 + c) * C), np.uint64((18 + c) * C)
@@ -479,7 +480,7 @@ class _Loops:
                 stress[i, c] -= trace
 
     def fourier_apply(spectra, matrices, parity1, parity2, offset):
-        _, n1, n2, h = spectra.shape
+        n1, n2, _, h = spectra.shape
         half = matrices.shape[0] != n1          # stored for q1, q2 >= 0: the signs of the components' parities
         x = np.empty(6, dtype=np.complex128)
         sign = np.ones(6)
@@ -498,12 +499,12 @@ class _Loops:
                 for k in range(h):
                     m = matrices[j1, j2, offset + k]
                     for a in range(6):
-                        x[a] = sign[a] * spectra[a, i1, i2, k]
+                        x[a] = sign[a] * spectra[i1, i2, a, k]
                     for a in range(6):
                         total = 0j
                         for b in range(6):
                             total += m[a, b] * x[b]
-                        spectra[a, i1, i2, k] = sign[a] * total
+                        spectra[i1, i2, a, k] = sign[a] * total
 
 
 class NumpyLoops:
@@ -513,6 +514,7 @@ class NumpyLoops:
     def stiffness(spectra, direct, mirror, groups, permutation, first, second, parity1, parity2, mirror_sign):
         direct = NumpyLoops.unpacked(direct, groups, permutation)
         mirror = NumpyLoops.unpacked(mirror, groups, permutation)
+        spectra = np.moveaxis(spectra, 2, 0)        # a view (6, N1, N2, b): written through
         _, n1, n2, h = spectra.shape
         half1, half2 = n1 // 2, n2 // 2
         i2 = np.arange(n2)
@@ -589,6 +591,7 @@ class NumpyLoops:
 
     @staticmethod
     def fourier_apply(spectra, matrices, parity1, parity2, offset):
+        spectra = np.moveaxis(spectra, 2, 0)        # a view (6, N1, N2, b): written through
         n1, n2, h = spectra.shape[1:]
         matrices = matrices[:, :, offset:offset + h]
         if matrices.shape[0] != n1:

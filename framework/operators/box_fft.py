@@ -16,6 +16,13 @@ transformed back along ``x2`` and the target's lines along ``x3``. The spectral 
 inverse transforms acts on each ``q3`` alone (the passes of :mod:`framework.operators._box_loops` pair
 ``q1, q2`` with ``-q1, -q2`` only), so the spectra are held for a block of ``q3`` at a time: ``6 N1 N2 b`` values instead of
 ``6 N1 N2 (N3/2 + 1)``, and no padded real array: memory follows the box, not its padded lattice.
+
+A block's spectra are laid out ``(N1, N2, 6, b)``: a wavenumber's six components side by side, the ``6 b`` values the
+passes read and write together in one run of memory. Laid out ``(6, N1, N2, b)`` (as the box's lines are), a pass
+gathered six rows of ``b`` values from six places for each wavenumber; on wide lattices, whose blocks are short,
+that cost it a third of its time (30 glass spheres' 250 x 250 x 120 lattice, blocks of 21: 45 -> 33 ms a block),
+and the transforms along x1 and x2, batched over ``6 b`` contiguous values instead of ``b``, ran faster too there
+(31 -> 25 ms along x1).
 """
 import numpy as np
 
@@ -115,28 +122,28 @@ class BoxFFT:
                            else "FFTW_ESTIMATE")
 
     def _block_plans(self, size):
-        """Buffer ``(6, N1, N2, size)`` and its transforms (for the block size and for the last, shorter one)."""
+        """Buffer ``(N1, N2, 6, size)`` and its transforms (for the block size and for the last, shorter one)."""
         if size not in self._plans:
             m1 = self.shape[0]
             n1, n2 = self.fft_shape[:2]
             if size not in self._buffers:       # a shorter last block in the first block's memory
                 first = self._buffers.get(self.block)
-                self._buffers[size] = (fft.zeros((6, n1, n2, size), complex) if first is None or size > self.block
-                                       else first.reshape(-1)[:6 * n1 * n2 * size].reshape(6, n1, n2, size))
+                self._buffers[size] = (fft.zeros((n1, n2, 6, size), complex) if first is None or size > self.block
+                                       else first.reshape(-1)[:6 * n1 * n2 * size].reshape(n1, n2, 6, size))
             spectra = self._buffers[size]
-            rows = spectra[:, :m1]
+            rows = spectra[:m1]
             effort = self.effort
             self._plans[size] = (spectra,
-                                 fft.Transform(rows, rows, axes=(2,), effort=effort),                # x2, box rows
-                                 fft.Transform(spectra, spectra, axes=(1,), effort=effort),          # x1, all lines
-                                 fft.Transform(spectra, spectra, axes=(1,), inverse=True, effort=effort),
-                                 fft.Transform(rows, rows, axes=(2,), inverse=True, effort=effort))
+                                 fft.Transform(rows, rows, axes=(1,), effort=effort),                # x2, box rows
+                                 fft.Transform(spectra, spectra, axes=(0,), effort=effort),          # x1, all lines
+                                 fft.Transform(spectra, spectra, axes=(0,), inverse=True, effort=effort),
+                                 fft.Transform(rows, rows, axes=(1,), inverse=True, effort=effort))
         return self._plans[size]
 
     def apply(self, field, spectral_pass, weights_in=None, weights_out=None, target=None):
         """The box field ``(m1, m2, m3, 6)`` of ``F^-1 [spectral_pass(F (field * weights_in))] * weights_out``.
 
-        ``spectral_pass(spectra, k0, k1)`` changes the six spectra ``(6, N1, N2, k1 - k0)`` of the
+        ``spectral_pass(spectra, k0, k1)`` changes the six spectra ``(N1, N2, 6, k1 - k0)`` of the
         wavenumbers ``q3 = k0 .. k1 - 1`` in place (``q1, q2`` over the whole lattice, unnormalised);
         the result is normalised by the lattice's number of points.
 
@@ -154,12 +161,12 @@ class BoxFFT:
         self.applications += 1
         if self.measure and self.effort != "FFTW_MEASURE" and self.applications >= MEASURE_AFTER:
             self._plan("FFTW_MEASURE")
+        passes = loops()
         for k0, k1, spectra, rows_inverse in self._passes(field, spectral_pass, weights_in):
             rows_inverse()
-            self._lines[:, :, :, k0:k1] = spectra[:, :m1, :m2]
+            self._lines[..., k0:k1] = np.moveaxis(spectra[:m1, :m2], 2, 0)
         out = np.empty((m1, m2, m3, 6))
         scale = 1.0 / (n1 * n2 * n3)
-        passes = loops()
         for c in range(6):
             self._line_inverse[c]()
             passes.put_component(out, self._lines_out[:, :, :m3], c, scale * weights_out[c])
@@ -176,9 +183,9 @@ class BoxFFT:
             self._line_forward[c]()
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
-            spectra[:, m1:] = 0.0                   # the padding (the last inverse left values there)
-            spectra[:, :m1, m2:] = 0.0
-            spectra[:, :m1, :m2] = self._lines[:, :, :, k0:k1]
+            spectra[m1:] = 0.0                      # the padding (the last inverse left values there)
+            spectra[:m1, m2:] = 0.0
+            spectra[:m1, :m2] = np.moveaxis(self._lines[..., k0:k1], 0, 2)
             rows_forward()
             forward()
             spectral_pass(spectra, k0, k1)
@@ -193,10 +200,10 @@ class BoxFFT:
         lines = np.empty((6, t1.size, t2.size, self.h), complex)
         for k0, k1, spectra, _ in self._passes(field, spectral_pass, weights_in):
             if (k1 - k0) not in self._all_rows:
-                self._all_rows[k1 - k0] = fft.Transform(spectra, spectra, axes=(2,), inverse=True,
+                self._all_rows[k1 - k0] = fft.Transform(spectra, spectra, axes=(1,), inverse=True,
                                                         effort="FFTW_ESTIMATE")
             self._all_rows[k1 - k0]()
-            lines[..., k0:k1] = np.take(np.take(spectra, t1, axis=1), t2, axis=2)
+            lines[..., k0:k1] = np.moveaxis(np.take(np.take(spectra, t1, axis=0), t2, axis=1), 2, 0)
         spectrum, values = fft.zeros((t1.size, t2.size, self.h), complex), fft.zeros((t1.size, t2.size, n3))
         back = fft.Transform(spectrum, values, axes=(2,), effort="FFTW_ESTIMATE")
         out = np.empty((t1.size, t2.size, t3.size, 6))

@@ -783,7 +783,7 @@ class HalfSpaceEigenstrain:
     def fourier(self, field, multiply, lattice="padded"):
         """``F^-1 [multiply(F field)]`` on the padded box, for a box field ``(m1, m2, m3, 6)`` (Mandel components).
 
-        ``multiply(spectra, k0, k1)`` changes the six spectra ``(6, N1, N2, k1 - k0)`` of the wavenumbers
+        ``multiply(spectra, k0, k1)`` changes the six spectra ``(N1, N2, 6, k1 - k0)`` of the wavenumbers
         ``q3 = k0 .. k1 - 1`` in place (:class:`~framework.operators.box_fft.BoxFFT`); the box part of the
         result is returned. For preconditioners that act on the box as if it were one homogeneous periodic
         cell (:class:`~framework.inclusions.equivalent.FourierPreconditioner`); ``lattice`` names the periodic
