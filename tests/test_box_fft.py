@@ -159,3 +159,32 @@ def test_blocks_hold_at_least_a_vector_of_q3():
     assert box_fft.q3_blocks((744, 744, 10), least=box_fft.LEAST_Q3) == [(0, 6)]
     assert (box_fft.buffer_bytes((372, 372, 56), wide, least=box_fft.LEAST_Q3)
             - box_fft.buffer_bytes((372, 372, 56), wide)) == 16 * 6 * 744 * 744 * (box_fft.LEAST_Q3 - 2)
+
+
+def test_a_box_fft_sharing_anothers_buffers_gives_what_it_gives_alone():
+    """The BoxFFTs of one box on two lattices (a product's padded one, a preconditioner's smaller periodic cell) share
+    the larger one's buffers: taken in turns, each gives bit for bit what it gives alone (each zeroes its lines'
+    padding again after the other wrote there), and the smaller one adds no memory."""
+    from framework.operators import box_fft
+    shape, padded, own = (5, 6, 7), (10, 12, 14), (6, 6, 8)
+    rng = np.random.default_rng(3)
+    field = rng.normal(size=(*shape, 6))
+    factors = {s: rng.normal(size=(s[0], s[1], 6, s[2] // 2 + 1)) for s in (padded, own)}
+
+    def spectral_pass(lattice):
+        def multiply(spectra, k0, k1):
+            spectra *= factors[lattice][..., k0:k1]
+        return multiply
+    alone = {s: BoxFFT(shape, s, effort="FFTW_ESTIMATE").apply(field, spectral_pass(s)) for s in (padded, own)}
+    large = BoxFFT(shape, padded, effort="FFTW_ESTIMATE")
+    small = BoxFFT(shape, own, effort="FFTW_ESTIMATE", share=large)
+    for _ in range(2):
+        assert np.array_equal(large.apply(field, spectral_pass(padded)), alone[padded])
+        assert np.array_equal(small.apply(field, spectral_pass(own)), alone[own])
+    for name in ("_lines_in", "_lines", "_lines_out"):
+        assert np.shares_memory(getattr(small, name), getattr(large, name))
+    assert np.shares_memory(small._buffers[small.block], large._buffers[large.block])
+    assert box_fft.buffer_bytes(shape, own, share=(padded, box_fft.BLOCK_BYTES, 1)) == 0
+    assert box_fft.buffer_bytes(shape, padded, share=(own, box_fft.BLOCK_BYTES, 1)) > 0
+    with pytest.raises(ValueError, match="same box"):
+        BoxFFT((5, 6, 6), own, share=large)

@@ -356,15 +356,15 @@ class FourierPreconditioner:
     @staticmethod
     def fits(operator, stiffnesses, lattice="padded", forward=False):
         """Whether the matrices for these inhomogeneities' stiffnesses (Mandel), twice as many with ``forward``, and
-        the transforms on the folded lattice, take at most :data:`FOURIER_BYTES`, or :data:`FOURIER_CUBOID_BYTES` per
+        what the transforms on their lattice add, take at most :data:`FOURIER_BYTES`, or :data:`FOURIER_CUBOID_BYTES` per
         box cuboid where that is more."""
         n1, n2, n3 = operator.lattice_shape(lattice)
         isotropic = all(np.allclose(np.diag(p) @ c @ np.diag(p), c, rtol=0.0, atol=1e-12 * np.abs(c).max())
                         for p in operator.kernel_parities for c in stiffnesses)
         rows, columns = (n1 // 2 + 1, n2 // 2 + 1) if isotropic else (n1, n2)
-        # the folded lattice's transforms count (a 128^3 box's: 272 MiB); the own lattice's, at most an eighth of the
-        # product's lattice, were always taken (100 glass spheres at 8 cuboids per radius: 16 iterations, not 28)
-        transforms = operator.transform_bytes(lattice) if lattice == "folded" else 0
+        # the transforms on the own or folded lattice take the product's buffers: what they add counts (none, as
+        # those lattices are no larger; the folded one's had counted on their own, a 128^3 box's 272 MiB)
+        transforms = operator.transform_bytes(lattice) if lattice != "padded" else 0
         limit = max(FOURIER_BYTES, FOURIER_CUBOID_BYTES * int(np.prod(operator.shape)))
         return rows * columns * (n3 // 2 + 1) * 36 * 8 * (2 if forward else 1) + transforms <= limit
 

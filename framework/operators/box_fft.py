@@ -60,13 +60,24 @@ def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES, least=1):
     return [(k0, min(h, k0 + size)) for k0 in range(0, h, size)]
 
 
-def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1):
-    """Memory of a :class:`BoxFFT`'s buffers [bytes]: the box's lines (in, out and their spectra) and one block of
-    ``q3``'s spectra on the lattice."""
+def buffer_sizes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1):
+    """Memory of each of a :class:`BoxFFT`'s buffers [bytes], by name: the box's lines in and out along x3, their
+    spectra, and one block of ``q3``'s spectra on the lattice."""
     (m1, m2, _), (n1, n2, n3) = shape, fft_shape
     h = n3 // 2 + 1
     block = max(k1 - k0 for k0, k1 in q3_blocks(fft_shape, block_bytes, least))
-    return 8 * (2 * m1 * m2 * n3) + 16 * (6 * m1 * m2 * h) + 16 * 6 * n1 * n2 * block
+    return {"lines_in": 8 * m1 * m2 * n3, "lines": 16 * 6 * m1 * m2 * h, "lines_out": 8 * m1 * m2 * n3,
+            "block": 16 * 6 * n1 * n2 * block}
+
+
+def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1, share=None):
+    """Memory of a :class:`BoxFFT`'s buffers [bytes]; with ``share`` (the ``(fft_shape, block_bytes, least)`` of a
+    BoxFFT of the same box whose buffers it takes), only what those cannot hold."""
+    sizes = buffer_sizes(shape, fft_shape, block_bytes, least)
+    if share is None:
+        return sum(sizes.values())
+    held = buffer_sizes(shape, *share)
+    return sum(size for name, size in sizes.items() if size > held[name])
 
 
 class BoxFFT:
@@ -86,27 +97,57 @@ class BoxFFT:
         Memory of the spectra of one block of ``q3`` [bytes].
     least : int
         Wavenumbers ``q3`` a block holds at least (:func:`q3_blocks`).
+    share : BoxFFT, optional
+        A BoxFFT of the same box on another lattice whose buffers this one takes where they are large enough
+        (:func:`buffer_bytes`): the two must not run at once (a product's transforms and a preconditioner's are
+        taken in turns). Each zeroes its lines' padding again when the other used the memory since.
     """
 
-    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1):
+    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1, share=None):
         self.shape, self.fft_shape = tuple(shape), tuple(fft_shape)
         (m1, m2, _), (n1, n2, n3) = self.shape, self.fft_shape
+        if share is not None and share.shape != self.shape:
+            raise ValueError(f"a BoxFFT shares the buffers of one of the same box, not {share.shape}")
         self.h = n3 // 2 + 1
         self.blocks = q3_blocks(self.fft_shape, block_bytes, least)
         self.block = self.blocks[0][1]
-        # along x3: the box's lines, zero-padded once (the padding is never written)
-        self._lines_in = fft.zeros((m1, m2, n3))
-        self._lines = fft.zeros((6, m1, m2, self.h), complex)         # the box's lines' spectra, all q3
-        self._lines_out = fft.zeros((m1, m2, n3))
+        self._owner = self if share is None else share._owner    # who holds the memory, and its last user
+        if share is None:
+            self._memory, self._user = {}, self
+        # along x3: the box's lines, zero-padded (the padding written again only after another BoxFFT's use)
+        self._lines_in = self._buffer("lines_in", (m1, m2, n3), float)
+        self._lines = self._buffer("lines", (6, m1, m2, self.h), complex)        # the box's lines' spectra, all q3
+        self._lines_out = self._buffer("lines_out", (m1, m2, n3), float)
         self._buffers = {}          # a block of q3's spectra, by block size
         self._all_rows = {}         # every row's inverse along x2, by block size (a target's)
         self.measure, self.applications = effort == "FFTW_MEASURE", 0
         later = self.measure and n1 * n2 * n3 <= MEASURE_AT_ONCE_POINTS
         self._plan("wisdom" if later else effort)
 
+    def _buffer(self, name, shape, dtype):
+        """A zeroed array of ``shape`` in the owner's memory ``name`` where that holds it, else of its own (the
+        owner's becomes that memory)."""
+        size = int(np.prod(shape)) * np.dtype(dtype).itemsize
+        memory = self._owner._memory.get(name)
+        if memory is not None and memory.nbytes >= size:
+            memory[:size] = 0
+            return memory[:size].view(dtype).reshape(shape)
+        array = fft.zeros(shape, dtype)
+        if self._owner is self:
+            self._memory[name] = array.reshape(-1).view(np.uint8)
+        return array
+
+    def _claim(self):
+        """Take the shared memory for an application: the lines' padding along x3 zeroed again where another BoxFFT
+        (or a planning, which writes on the buffers) used it since."""
+        if self._owner._user is not self:
+            self._lines_in[:, :, self.shape[2]:] = 0.0
+            self._owner._user = self
+
     def _plan(self, effort):
         """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are kept); ``"wisdom"``: measured
         where FFTW's wisdom holds the plan, else estimated (:class:`framework.fft.Transform`)."""
+        self._owner._user = None            # measuring writes on the buffers another BoxFFT may share
         self.effort = effort
         self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort)
                               for c in range(6)]
@@ -128,7 +169,8 @@ class BoxFFT:
             n1, n2 = self.fft_shape[:2]
             if size not in self._buffers:       # a shorter last block in the first block's memory
                 first = self._buffers.get(self.block)
-                self._buffers[size] = (fft.zeros((n1, n2, 6, size), complex) if first is None or size > self.block
+                self._buffers[size] = (self._buffer("block", (n1, n2, 6, size), complex)
+                                       if first is None or size > self.block
                                        else first.reshape(-1)[:6 * n1 * n2 * size].reshape(n1, n2, 6, size))
             spectra = self._buffers[size]
             rows = spectra[:m1]
@@ -177,6 +219,7 @@ class BoxFFT:
         passed, and back along x1: yields ``(k0, k1, spectra, rows_inverse)`` (the box rows' transform back along
         x2), the padding zeroed again at the next block."""
         (m1, m2, m3) = self.shape
+        self._claim()
         passes = loops()
         for c in range(6):
             passes.take_component(self._lines_in[:, :, :m3], field, c, weights_in[c])
