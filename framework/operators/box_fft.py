@@ -18,11 +18,13 @@ inverse transforms acts on each ``q3`` alone (the passes of :mod:`framework.oper
 ``6 N1 N2 (N3/2 + 1)``, and no padded real array: memory follows the box, not its padded lattice.
 
 A block's spectra are laid out ``(N1, N2, 6, b)``: a wavenumber's six components side by side, the ``6 b`` values the
-passes read and write together in one run of memory. Laid out ``(6, N1, N2, b)`` (as the box's lines are), a pass
-gathered six rows of ``b`` values from six places for each wavenumber; on wide lattices, whose blocks are short,
-that cost it a third of its time (30 glass spheres' 250 x 250 x 120 lattice, blocks of 21: 45 -> 33 ms a block),
-and the transforms along x1 and x2, batched over ``6 b`` contiguous values instead of ``b``, ran faster too there
-(31 -> 25 ms along x1).
+passes read and write together in one run of memory. Laid out ``(6, N1, N2, b)``, a pass gathered six rows of ``b``
+values from six places for each wavenumber; on wide lattices, whose blocks are short, that cost it a third of its
+time (30 glass spheres' 250 x 250 x 120 lattice, blocks of 21: 45 -> 33 ms a block), and the transforms along x1
+and x2, batched over ``6 b`` contiguous values instead of ``b``, ran faster too there (31 -> 25 ms along x1). The
+box's lines' spectra stay ``(6, m1, m2, N3/2 + 1)`` (their transforms along x3 are contiguous: laid out like the
+blocks, a 300-sphere box's own-lattice transforms took 70 ms more), copied into a block a component at a time (as
+one transposing copy, twice as long: 9.6 against 4.5 ms a block of 8 on 100 glass spheres' box).
 """
 import numpy as np
 
@@ -206,7 +208,8 @@ class BoxFFT:
         passes = loops()
         for k0, k1, spectra, rows_inverse in self._passes(field, spectral_pass, weights_in):
             rows_inverse()
-            self._lines[..., k0:k1] = np.moveaxis(spectra[:m1, :m2], 2, 0)
+            for c in range(6):      # a component at a time (a transposing copy took twice as long)
+                self._lines[c, :, :, k0:k1] = spectra[:m1, :m2, c]
         out = np.empty((m1, m2, m3, 6))
         scale = 1.0 / (n1 * n2 * n3)
         for c in range(6):
@@ -228,7 +231,8 @@ class BoxFFT:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             spectra[m1:] = 0.0                      # the padding (the last inverse left values there)
             spectra[:m1, m2:] = 0.0
-            spectra[:m1, :m2] = np.moveaxis(self._lines[..., k0:k1], 0, 2)
+            for c in range(6):
+                spectra[:m1, :m2, c] = self._lines[c, :, :, k0:k1]
             rows_forward()
             forward()
             spectral_pass(spectra, k0, k1)
