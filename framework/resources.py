@@ -52,8 +52,8 @@ INCLUSION = 4500
 #: `bench/dispersion.py`), which INCLUSION alone put at 9.4, 11.9 and 35 GB: `check` refused the last on a 24 GB
 #: machine where it runs in 10.8 GiB. A box whose cuboids are square in x1, x2 stores half its kernels
 #: (`eigenstrain.box_lattice`) and grows by INCLUSION_LARGE_SQUARE a cuboid: measured with blocks of at least 8 q3
-#: and the preconditioner's transforms in the product's buffers, 3.41 and 8.92 GB for the 100 and 300 spheres
-#: (950 and 1030 bytes a cuboid past INCLUSION_FIXED; 3.7 and 9.6 GB when the preconditioner had buffers of its own).
+#: and the preconditioner's transforms in the product's buffers, 3.41 and 8.87 GB for the 100 and 300 spheres
+#: (950 and 1028 bytes a cuboid past INCLUSION_FIXED; 3.7 and 9.6 GB when the preconditioner had buffers of its own).
 INCLUSION_FIXED = 0.9e9
 INCLUSION_LARGE = 1500
 INCLUSION_LARGE_SQUARE = 1100
