@@ -161,159 +161,95 @@ class _Loops:
                             for k in range(n):
                                 S[s0 + k], S[s1 + k] = gp * values[a + two * k], gp * values[a + two * k + one]
                                 S[s2 + k], S[s3 + k] = gq * values[b + two * k], gq * values[b + two * k + one]
-                        if plain[group]:     # f = 1: the sums and differences of the pair (see above), two sweeps
-                            for k in range((count + 7) // 8 * 8):
-                                x0, y0 = S[k + 0 * C] + S[k + 12 * C], S[k + 6 * C] + S[k + 18 * C]
-                                x1, y1 = S[k + 1 * C] + S[k + 13 * C], S[k + 7 * C] + S[k + 19 * C]
-                                x2, y2 = S[k + 2 * C] + S[k + 14 * C], S[k + 8 * C] + S[k + 20 * C]
-                                x3, y3 = S[k + 3 * C] + S[k + 15 * C], S[k + 9 * C] + S[k + 21 * C]
-                                x4, y4 = S[k + 4 * C] + S[k + 16 * C], S[k + 10 * C] + S[k + 22 * C]
-                                x5, y5 = S[k + 5 * C] + S[k + 17 * C], S[k + 11 * C] + S[k + 23 * C]
-                                kp, km, kb = K[k + 0 * C], K[k + 21 * C], K[k + 42 * C]
-                                u0 = kp * x0 + kb * y0; v0 = km * y0 + kb * x0
-                                kp, km, kb = K[k + 1 * C], K[k + 22 * C], K[k + 43 * C]
-                                u0 += kp * x1 + kb * y1; v0 += km * y1 + kb * x1
-                                u1 = kp * x0 + kb * y0; v1 = km * y0 + kb * x0
-                                kp, km, kb = K[k + 2 * C], K[k + 23 * C], K[k + 44 * C]
-                                u1 += kp * x1 + kb * y1; v1 += km * y1 + kb * x1
-                                kp, km, kb = K[k + 3 * C], K[k + 24 * C], K[k + 45 * C]
-                                u0 += kp * x2 + kb * y2; v0 += km * y2 + kb * x2
-                                u2 = kp * x0 + kb * y0; v2 = km * y0 + kb * x0
-                                kp, km, kb = K[k + 4 * C], K[k + 25 * C], K[k + 46 * C]
-                                u1 += kp * x2 + kb * y2; v1 += km * y2 + kb * x2
-                                u2 += kp * x1 + kb * y1; v2 += km * y1 + kb * x1
-                                kp, km, kb = K[k + 5 * C], K[k + 26 * C], K[k + 47 * C]
-                                u2 += kp * x2 + kb * y2; v2 += km * y2 + kb * x2
-                                kp, km, kb = K[k + 6 * C], K[k + 27 * C], K[k + 48 * C]
-                                u0 += kp * x3 + kb * y3; v0 += km * y3 + kb * x3
-                                u3 = kp * x0 + kb * y0; v3 = km * y0 + kb * x0
-                                kp, km, kb = K[k + 7 * C], K[k + 28 * C], K[k + 49 * C]
-                                u1 += kp * x3 + kb * y3; v1 += km * y3 + kb * x3
-                                u3 += kp * x1 + kb * y1; v3 += km * y1 + kb * x1
-                                kp, km, kb = K[k + 8 * C], K[k + 29 * C], K[k + 50 * C]
-                                u2 += kp * x3 + kb * y3; v2 += km * y3 + kb * x3
-                                u3 += kp * x2 + kb * y2; v3 += km * y2 + kb * x2
-                                kp, km, kb = K[k + 9 * C], K[k + 30 * C], K[k + 51 * C]
-                                u3 += kp * x3 + kb * y3; v3 += km * y3 + kb * x3
-                                kp, km, kb = K[k + 10 * C], K[k + 31 * C], K[k + 52 * C]
-                                u0 += kp * x4 + kb * y4; v0 += km * y4 + kb * x4
-                                u4 = kp * x0 + kb * y0; v4 = km * y0 + kb * x0
-                                kp, km, kb = K[k + 11 * C], K[k + 32 * C], K[k + 53 * C]
-                                u1 += kp * x4 + kb * y4; v1 += km * y4 + kb * x4
-                                u4 += kp * x1 + kb * y1; v4 += km * y1 + kb * x1
-                                kp, km, kb = K[k + 12 * C], K[k + 33 * C], K[k + 54 * C]
-                                u2 += kp * x4 + kb * y4; v2 += km * y4 + kb * x4
-                                u4 += kp * x2 + kb * y2; v4 += km * y2 + kb * x2
-                                kp, km, kb = K[k + 13 * C], K[k + 34 * C], K[k + 55 * C]
-                                u3 += kp * x4 + kb * y4; v3 += km * y4 + kb * x4
-                                u4 += kp * x3 + kb * y3; v4 += km * y3 + kb * x3
-                                kp, km, kb = K[k + 14 * C], K[k + 35 * C], K[k + 56 * C]
-                                u4 += kp * x4 + kb * y4; v4 += km * y4 + kb * x4
-                                kp, km, kb = K[k + 15 * C], K[k + 36 * C], K[k + 57 * C]
-                                u0 += kp * x5 + kb * y5; v0 += km * y5 + kb * x5
-                                u5 = kp * x0 + kb * y0; v5 = km * y0 + kb * x0
-                                kp, km, kb = K[k + 16 * C], K[k + 37 * C], K[k + 58 * C]
-                                u1 += kp * x5 + kb * y5; v1 += km * y5 + kb * x5
-                                u5 += kp * x1 + kb * y1; v5 += km * y1 + kb * x1
-                                kp, km, kb = K[k + 17 * C], K[k + 38 * C], K[k + 59 * C]
-                                u2 += kp * x5 + kb * y5; v2 += km * y5 + kb * x5
-                                u5 += kp * x2 + kb * y2; v5 += km * y2 + kb * x2
-                                kp, km, kb = K[k + 18 * C], K[k + 39 * C], K[k + 60 * C]
-                                u3 += kp * x5 + kb * y5; v3 += km * y5 + kb * x5
-                                u5 += kp * x3 + kb * y3; v5 += km * y3 + kb * x3
-                                kp, km, kb = K[k + 19 * C], K[k + 40 * C], K[k + 61 * C]
-                                u4 += kp * x5 + kb * y5; v4 += km * y5 + kb * x5
-                                u5 += kp * x4 + kb * y4; v5 += km * y4 + kb * x4
-                                kp, km, kb = K[k + 20 * C], K[k + 41 * C], K[k + 62 * C]
-                                u5 += kp * x5 + kb * y5; v5 += km * y5 + kb * x5
-                                O[k + 0 * C], O[k + 6 * C] = u0, v0
-                                O[k + 1 * C], O[k + 7 * C] = u1, v1
-                                O[k + 2 * C], O[k + 8 * C] = u2, v2
-                                O[k + 3 * C], O[k + 9 * C] = u3, v3
-                                O[k + 4 * C], O[k + 10 * C] = u4, v4
-                                O[k + 5 * C], O[k + 11 * C] = u5, v5
-                            for k in range((count + 7) // 8 * 8):
-                                x0, y0 = S[k + 6 * C] - S[k + 18 * C], S[k + 0 * C] - S[k + 12 * C]
-                                x1, y1 = S[k + 7 * C] - S[k + 19 * C], S[k + 1 * C] - S[k + 13 * C]
-                                x2, y2 = S[k + 8 * C] - S[k + 20 * C], S[k + 2 * C] - S[k + 14 * C]
-                                x3, y3 = S[k + 9 * C] - S[k + 21 * C], S[k + 3 * C] - S[k + 15 * C]
-                                x4, y4 = S[k + 10 * C] - S[k + 22 * C], S[k + 4 * C] - S[k + 16 * C]
-                                x5, y5 = S[k + 11 * C] - S[k + 23 * C], S[k + 5 * C] - S[k + 17 * C]
-                                kp, km, kb = K[k + 0 * C], K[k + 21 * C], K[k + 42 * C]
-                                u0 = kp * x0 - kb * y0; v0 = km * y0 - kb * x0
-                                kp, km, kb = K[k + 1 * C], K[k + 22 * C], K[k + 43 * C]
-                                u0 += kp * x1 - kb * y1; v0 += km * y1 - kb * x1
-                                u1 = kp * x0 - kb * y0; v1 = km * y0 - kb * x0
-                                kp, km, kb = K[k + 2 * C], K[k + 23 * C], K[k + 44 * C]
-                                u1 += kp * x1 - kb * y1; v1 += km * y1 - kb * x1
-                                kp, km, kb = K[k + 3 * C], K[k + 24 * C], K[k + 45 * C]
-                                u0 += kp * x2 - kb * y2; v0 += km * y2 - kb * x2
-                                u2 = kp * x0 - kb * y0; v2 = km * y0 - kb * x0
-                                kp, km, kb = K[k + 4 * C], K[k + 25 * C], K[k + 46 * C]
-                                u1 += kp * x2 - kb * y2; v1 += km * y2 - kb * x2
-                                u2 += kp * x1 - kb * y1; v2 += km * y1 - kb * x1
-                                kp, km, kb = K[k + 5 * C], K[k + 26 * C], K[k + 47 * C]
-                                u2 += kp * x2 - kb * y2; v2 += km * y2 - kb * x2
-                                kp, km, kb = K[k + 6 * C], K[k + 27 * C], K[k + 48 * C]
-                                u0 += kp * x3 - kb * y3; v0 += km * y3 - kb * x3
-                                u3 = kp * x0 - kb * y0; v3 = km * y0 - kb * x0
-                                kp, km, kb = K[k + 7 * C], K[k + 28 * C], K[k + 49 * C]
-                                u1 += kp * x3 - kb * y3; v1 += km * y3 - kb * x3
-                                u3 += kp * x1 - kb * y1; v3 += km * y1 - kb * x1
-                                kp, km, kb = K[k + 8 * C], K[k + 29 * C], K[k + 50 * C]
-                                u2 += kp * x3 - kb * y3; v2 += km * y3 - kb * x3
-                                u3 += kp * x2 - kb * y2; v3 += km * y2 - kb * x2
-                                kp, km, kb = K[k + 9 * C], K[k + 30 * C], K[k + 51 * C]
-                                u3 += kp * x3 - kb * y3; v3 += km * y3 - kb * x3
-                                kp, km, kb = K[k + 10 * C], K[k + 31 * C], K[k + 52 * C]
-                                u0 += kp * x4 - kb * y4; v0 += km * y4 - kb * x4
-                                u4 = kp * x0 - kb * y0; v4 = km * y0 - kb * x0
-                                kp, km, kb = K[k + 11 * C], K[k + 32 * C], K[k + 53 * C]
-                                u1 += kp * x4 - kb * y4; v1 += km * y4 - kb * x4
-                                u4 += kp * x1 - kb * y1; v4 += km * y1 - kb * x1
-                                kp, km, kb = K[k + 12 * C], K[k + 33 * C], K[k + 54 * C]
-                                u2 += kp * x4 - kb * y4; v2 += km * y4 - kb * x4
-                                u4 += kp * x2 - kb * y2; v4 += km * y2 - kb * x2
-                                kp, km, kb = K[k + 13 * C], K[k + 34 * C], K[k + 55 * C]
-                                u3 += kp * x4 - kb * y4; v3 += km * y4 - kb * x4
-                                u4 += kp * x3 - kb * y3; v4 += km * y3 - kb * x3
-                                kp, km, kb = K[k + 14 * C], K[k + 35 * C], K[k + 56 * C]
-                                u4 += kp * x4 - kb * y4; v4 += km * y4 - kb * x4
-                                kp, km, kb = K[k + 15 * C], K[k + 36 * C], K[k + 57 * C]
-                                u0 += kp * x5 - kb * y5; v0 += km * y5 - kb * x5
-                                u5 = kp * x0 - kb * y0; v5 = km * y0 - kb * x0
-                                kp, km, kb = K[k + 16 * C], K[k + 37 * C], K[k + 58 * C]
-                                u1 += kp * x5 - kb * y5; v1 += km * y5 - kb * x5
-                                u5 += kp * x1 - kb * y1; v5 += km * y1 - kb * x1
-                                kp, km, kb = K[k + 17 * C], K[k + 38 * C], K[k + 59 * C]
-                                u2 += kp * x5 - kb * y5; v2 += km * y5 - kb * x5
-                                u5 += kp * x2 - kb * y2; v5 += km * y2 - kb * x2
-                                kp, km, kb = K[k + 18 * C], K[k + 39 * C], K[k + 60 * C]
-                                u3 += kp * x5 - kb * y5; v3 += km * y5 - kb * x5
-                                u5 += kp * x3 - kb * y3; v5 += km * y3 - kb * x3
-                                kp, km, kb = K[k + 19 * C], K[k + 40 * C], K[k + 61 * C]
-                                u4 += kp * x5 - kb * y5; v4 += km * y5 - kb * x5
-                                u5 += kp * x4 - kb * y4; v5 += km * y4 - kb * x4
-                                kp, km, kb = K[k + 20 * C], K[k + 41 * C], K[k + 62 * C]
-                                u5 += kp * x5 - kb * y5; v5 += km * y5 - kb * x5
-                                ur, vi = O[k + 0 * C], O[k + 6 * C]
-                                O[k + 0 * C], O[k + 12 * C] = ur + v0, ur - v0
-                                O[k + 6 * C], O[k + 18 * C] = u0 + vi, vi - u0
-                                ur, vi = O[k + 1 * C], O[k + 7 * C]
-                                O[k + 1 * C], O[k + 13 * C] = ur + v1, ur - v1
-                                O[k + 7 * C], O[k + 19 * C] = u1 + vi, vi - u1
-                                ur, vi = O[k + 2 * C], O[k + 8 * C]
-                                O[k + 2 * C], O[k + 14 * C] = ur + v2, ur - v2
-                                O[k + 8 * C], O[k + 20 * C] = u2 + vi, vi - u2
-                                ur, vi = O[k + 3 * C], O[k + 9 * C]
-                                O[k + 3 * C], O[k + 15 * C] = ur + v3, ur - v3
-                                O[k + 9 * C], O[k + 21 * C] = u3 + vi, vi - u3
-                                ur, vi = O[k + 4 * C], O[k + 10 * C]
-                                O[k + 4 * C], O[k + 16 * C] = ur + v4, ur - v4
-                                O[k + 10 * C], O[k + 22 * C] = u4 + vi, vi - u4
-                                ur, vi = O[k + 5 * C], O[k + 11 * C]
-                                O[k + 5 * C], O[k + 17 * C] = ur + v5, ur - v5
-                                O[k + 11 * C], O[k + 23 * C] = u5 + vi, vi - u5
+                        if plain[group]:     # f = 1: the sums and differences of the pair (see above)
+                            # two sweeps of one form: s = 1 takes x, y = the real parts of the sum, the imaginary
+                            # ones of the difference, and gives u, v = the real parts of (A + Br) s - i Bi d, the
+                            # imaginary ones of (A - Br) d + i Bi s; s = -1 the others
+                            for sweep in range(2):
+                                s = 1.0 - 2.0 * sweep
+                                xs, ys, us = 6 * sweep * C, 6 * (1 - sweep) * C, 12 * sweep * C
+                                for k in range((count + 7) // 8 * 8):
+                                    x0 = S[k + xs + 0 * C] + s * S[k + xs + 12 * C]
+                                    y0 = S[k + ys + 0 * C] + s * S[k + ys + 12 * C]
+                                    x1 = S[k + xs + 1 * C] + s * S[k + xs + 13 * C]
+                                    y1 = S[k + ys + 1 * C] + s * S[k + ys + 13 * C]
+                                    x2 = S[k + xs + 2 * C] + s * S[k + xs + 14 * C]
+                                    y2 = S[k + ys + 2 * C] + s * S[k + ys + 14 * C]
+                                    x3 = S[k + xs + 3 * C] + s * S[k + xs + 15 * C]
+                                    y3 = S[k + ys + 3 * C] + s * S[k + ys + 15 * C]
+                                    x4 = S[k + xs + 4 * C] + s * S[k + xs + 16 * C]
+                                    y4 = S[k + ys + 4 * C] + s * S[k + ys + 16 * C]
+                                    x5 = S[k + xs + 5 * C] + s * S[k + xs + 17 * C]
+                                    y5 = S[k + ys + 5 * C] + s * S[k + ys + 17 * C]
+                                    kp, km, kb = K[k + 0 * C], K[k + 21 * C], s * K[k + 42 * C]
+                                    u0 = kp * x0 + kb * y0; v0 = km * y0 + kb * x0
+                                    kp, km, kb = K[k + 1 * C], K[k + 22 * C], s * K[k + 43 * C]
+                                    u0 += kp * x1 + kb * y1; v0 += km * y1 + kb * x1
+                                    u1 = kp * x0 + kb * y0; v1 = km * y0 + kb * x0
+                                    kp, km, kb = K[k + 2 * C], K[k + 23 * C], s * K[k + 44 * C]
+                                    u1 += kp * x1 + kb * y1; v1 += km * y1 + kb * x1
+                                    kp, km, kb = K[k + 3 * C], K[k + 24 * C], s * K[k + 45 * C]
+                                    u0 += kp * x2 + kb * y2; v0 += km * y2 + kb * x2
+                                    u2 = kp * x0 + kb * y0; v2 = km * y0 + kb * x0
+                                    kp, km, kb = K[k + 4 * C], K[k + 25 * C], s * K[k + 46 * C]
+                                    u1 += kp * x2 + kb * y2; v1 += km * y2 + kb * x2
+                                    u2 += kp * x1 + kb * y1; v2 += km * y1 + kb * x1
+                                    kp, km, kb = K[k + 5 * C], K[k + 26 * C], s * K[k + 47 * C]
+                                    u2 += kp * x2 + kb * y2; v2 += km * y2 + kb * x2
+                                    kp, km, kb = K[k + 6 * C], K[k + 27 * C], s * K[k + 48 * C]
+                                    u0 += kp * x3 + kb * y3; v0 += km * y3 + kb * x3
+                                    u3 = kp * x0 + kb * y0; v3 = km * y0 + kb * x0
+                                    kp, km, kb = K[k + 7 * C], K[k + 28 * C], s * K[k + 49 * C]
+                                    u1 += kp * x3 + kb * y3; v1 += km * y3 + kb * x3
+                                    u3 += kp * x1 + kb * y1; v3 += km * y1 + kb * x1
+                                    kp, km, kb = K[k + 8 * C], K[k + 29 * C], s * K[k + 50 * C]
+                                    u2 += kp * x3 + kb * y3; v2 += km * y3 + kb * x3
+                                    u3 += kp * x2 + kb * y2; v3 += km * y2 + kb * x2
+                                    kp, km, kb = K[k + 9 * C], K[k + 30 * C], s * K[k + 51 * C]
+                                    u3 += kp * x3 + kb * y3; v3 += km * y3 + kb * x3
+                                    kp, km, kb = K[k + 10 * C], K[k + 31 * C], s * K[k + 52 * C]
+                                    u0 += kp * x4 + kb * y4; v0 += km * y4 + kb * x4
+                                    u4 = kp * x0 + kb * y0; v4 = km * y0 + kb * x0
+                                    kp, km, kb = K[k + 11 * C], K[k + 32 * C], s * K[k + 53 * C]
+                                    u1 += kp * x4 + kb * y4; v1 += km * y4 + kb * x4
+                                    u4 += kp * x1 + kb * y1; v4 += km * y1 + kb * x1
+                                    kp, km, kb = K[k + 12 * C], K[k + 33 * C], s * K[k + 54 * C]
+                                    u2 += kp * x4 + kb * y4; v2 += km * y4 + kb * x4
+                                    u4 += kp * x2 + kb * y2; v4 += km * y2 + kb * x2
+                                    kp, km, kb = K[k + 13 * C], K[k + 34 * C], s * K[k + 55 * C]
+                                    u3 += kp * x4 + kb * y4; v3 += km * y4 + kb * x4
+                                    u4 += kp * x3 + kb * y3; v4 += km * y3 + kb * x3
+                                    kp, km, kb = K[k + 14 * C], K[k + 35 * C], s * K[k + 56 * C]
+                                    u4 += kp * x4 + kb * y4; v4 += km * y4 + kb * x4
+                                    kp, km, kb = K[k + 15 * C], K[k + 36 * C], s * K[k + 57 * C]
+                                    u0 += kp * x5 + kb * y5; v0 += km * y5 + kb * x5
+                                    u5 = kp * x0 + kb * y0; v5 = km * y0 + kb * x0
+                                    kp, km, kb = K[k + 16 * C], K[k + 37 * C], s * K[k + 58 * C]
+                                    u1 += kp * x5 + kb * y5; v1 += km * y5 + kb * x5
+                                    u5 += kp * x1 + kb * y1; v5 += km * y1 + kb * x1
+                                    kp, km, kb = K[k + 17 * C], K[k + 38 * C], s * K[k + 59 * C]
+                                    u2 += kp * x5 + kb * y5; v2 += km * y5 + kb * x5
+                                    u5 += kp * x2 + kb * y2; v5 += km * y2 + kb * x2
+                                    kp, km, kb = K[k + 18 * C], K[k + 39 * C], s * K[k + 60 * C]
+                                    u3 += kp * x5 + kb * y5; v3 += km * y5 + kb * x5
+                                    u5 += kp * x3 + kb * y3; v5 += km * y3 + kb * x3
+                                    kp, km, kb = K[k + 19 * C], K[k + 40 * C], s * K[k + 61 * C]
+                                    u4 += kp * x5 + kb * y5; v4 += km * y5 + kb * x5
+                                    u5 += kp * x4 + kb * y4; v5 += km * y4 + kb * x4
+                                    kp, km, kb = K[k + 20 * C], K[k + 41 * C], s * K[k + 62 * C]
+                                    u5 += kp * x5 + kb * y5; v5 += km * y5 + kb * x5
+                                    O[k + us + 0 * C], O[k + us + 6 * C] = u0, v0
+                                    O[k + us + 1 * C], O[k + us + 7 * C] = u1, v1
+                                    O[k + us + 2 * C], O[k + us + 8 * C] = u2, v2
+                                    O[k + us + 3 * C], O[k + us + 9 * C] = u3, v3
+                                    O[k + us + 4 * C], O[k + us + 10 * C] = u4, v4
+                                    O[k + us + 5 * C], O[k + us + 11 * C] = u5, v5
+                            for c in range(6):           # the pair's results from the sum and the difference
+                                for k in range((count + 7) // 8 * 8):
+                                    ur, vi = O[k + c * C], O[k + (6 + c) * C]
+                                    ui, vr = O[k + (12 + c) * C], O[k + (18 + c) * C]
+                                    O[k + c * C], O[k + (12 + c) * C] = ur + vr, ur - vr
+                                    O[k + (6 + c) * C], O[k + (18 + c) * C] = ui + vi, vi - ui
                         else:
                             f0, f1, f2, f3, f4, f5 = f[0], f[1], f[2], f[3], f[4], f[5]
                             for k in range((count + 7) // 8 * 8):      # whole vectors (the rows' ends are scratch)
