@@ -9,6 +9,7 @@ one block or several.
 import numpy as np
 import pytest
 
+from framework.operators import box_fft as box_fft_module
 from framework.operators.box_fft import BoxFFT
 
 
@@ -142,7 +143,8 @@ def test_buffer_bytes_counts_the_buffers_a_box_fft_holds(block_bytes):
     kwargs = {} if block_bytes is None else {"block_bytes": block_bytes}
     box = BoxFFT((5, 6, 7), (10, 12, 14), effort="FFTW_ESTIMATE", **kwargs)
     box.apply(np.ones((5, 6, 7, 6)), lambda spectra, k0, k1: None)
-    held = [box._lines_in, box._lines, box._lines_out, box._buffers[box.block]]
+    assert box.direct == (block_bytes is None)          # one block of q3: the lines are the block's box rows
+    held = [box._buffers[box.block]] + ([] if box.direct else [box._lines])
     assert box_fft.buffer_bytes((5, 6, 7), (10, 12, 14), **kwargs) == sum(a.nbytes for a in held)
 
 
@@ -161,10 +163,12 @@ def test_blocks_hold_at_least_a_vector_of_q3():
             - box_fft.buffer_bytes((372, 372, 56), wide)) == 16 * 6 * 744 * 744 * (box_fft.LEAST_Q3 - 2)
 
 
-def test_a_box_fft_sharing_anothers_buffers_gives_what_it_gives_alone():
+@pytest.mark.parametrize("block_bytes", [box_fft_module.BLOCK_BYTES, 3000])
+def test_a_box_fft_sharing_anothers_buffers_gives_what_it_gives_alone(block_bytes):
     """The BoxFFTs of one box on two lattices (a product's padded one, a preconditioner's smaller periodic cell) share
-    the larger one's buffers: taken in turns, each gives bit for bit what it gives alone (each zeroes its lines'
-    padding again after the other wrote there), and the smaller one adds no memory."""
+    the larger one's buffers: taken in turns, each gives bit for bit what it gives alone (each writes its lines'
+    padding again, whatever the other left there), and the smaller one adds no memory; in one block of q3 or in
+    several (the lines an array of their own)."""
     from framework.operators import box_fft
     shape, padded, own = (5, 6, 7), (10, 12, 14), (6, 6, 8)
     rng = np.random.default_rng(3)
@@ -175,16 +179,17 @@ def test_a_box_fft_sharing_anothers_buffers_gives_what_it_gives_alone():
         def multiply(spectra, k0, k1):
             spectra *= factors[lattice][..., k0:k1]
         return multiply
-    alone = {s: BoxFFT(shape, s, effort="FFTW_ESTIMATE").apply(field, spectral_pass(s)) for s in (padded, own)}
-    large = BoxFFT(shape, padded, effort="FFTW_ESTIMATE")
-    small = BoxFFT(shape, own, effort="FFTW_ESTIMATE", share=large)
+    alone = {s: BoxFFT(shape, s, effort="FFTW_ESTIMATE", block_bytes=block_bytes).apply(field, spectral_pass(s))
+             for s in (padded, own)}
+    large = BoxFFT(shape, padded, effort="FFTW_ESTIMATE", block_bytes=block_bytes)
+    small = BoxFFT(shape, own, effort="FFTW_ESTIMATE", block_bytes=block_bytes, share=large)
+    assert large.direct == small.direct == (block_bytes == box_fft.BLOCK_BYTES)
     for _ in range(2):
         assert np.array_equal(large.apply(field, spectral_pass(padded)), alone[padded])
         assert np.array_equal(small.apply(field, spectral_pass(own)), alone[own])
-    for name in ("_lines_in", "_lines", "_lines_out"):
-        assert np.shares_memory(getattr(small, name), getattr(large, name))
+    assert np.shares_memory(small._lines, large._lines)
     assert np.shares_memory(small._buffers[small.block], large._buffers[large.block])
-    assert box_fft.buffer_bytes(shape, own, share=(padded, box_fft.BLOCK_BYTES, 1)) == 0
-    assert box_fft.buffer_bytes(shape, padded, share=(own, box_fft.BLOCK_BYTES, 1)) > 0
+    assert box_fft.buffer_bytes(shape, own, block_bytes, share=(padded, block_bytes, 1)) == 0
+    assert box_fft.buffer_bytes(shape, padded, block_bytes, share=(own, block_bytes, 1)) > 0
     with pytest.raises(ValueError, match="same box"):
         BoxFFT((5, 6, 6), own, share=large)

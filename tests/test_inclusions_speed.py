@@ -152,11 +152,12 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
         return rng.normal(size=shape) + 1j * rng.normal(size=shape)
     spectra = complex_normal(n1, n2, 6, h)            # a block of q3 (N1, N2, 6, b), as BoxFFT lays it out
     groups = _box_loops.kernel_groups(n1 // 2 + 1, n2 // 2 + 1, symmetric)[0]
-    direct, mirror = rng.normal(size=(21, len(groups), h)), complex_normal(21, len(groups), h)
+    direct, mirror = rng.normal(size=(len(groups), 21, h)), complex_normal(len(groups), 21, h)
     first, second = np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES])
     parity1, parity2 = np.array([1.0, -1, 1, -1, 1, -1]), np.array([1.0, 1, -1, -1, 1, 1])
     m1, m2, layers, width = max(2, n1 // 2), max(2, n2 // 2), 3, n2 + 5
     field = rng.normal(size=(m1, m2, layers, 6))
+    weights, lines = rng.normal(size=6), rng.normal(size=(m1 + 1, m2, 6, layers + 2))
     surface = complex_normal(6, n1, h)
     kernels, factors, parities = rng.normal(size=(6 * layers, n1 // 2 + 1, h)), complex_normal(6 * layers), \
         rng.choice([-1.0, 1.0], 6 * layers)
@@ -167,8 +168,8 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
             passes = _box_loops.loops()
             assert (passes is _box_loops.NumpyLoops) is not compiled
             out = [spectra.copy(), np.zeros((n1, h), complex), np.empty((6, n1, h), complex),
-                   np.zeros((6, m1, width)), field.copy(), field.copy(), np.empty((m1, m2, layers)), np.empty_like(field),
-                   field.reshape(-1, 6).copy()]
+                   np.zeros((6, m1, width)), field.copy(), field.copy(), np.full((m1 + 1, m2 + 2, 6, layers + 4), 7.0),
+                   np.empty_like(field), field.reshape(-1, 6).copy()]
             passes.stiffness(out[0], direct, mirror, groups, _box_loops.PERMUTATION, first, second, parity1, parity2,
                              np.array([1.0, 1, 1, -1, -1, 1]))
             passes.surface_sum(out[1], kernels, factors, parities, surface, 6)
@@ -176,16 +177,19 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
             passes.surface_planes(out[3], field, 1, 4)
             passes.surface_add(out[4], planes, 2, 3, 0.5, True)
             passes.surface_add(out[5], planes, 0, 3, 0.5, False)
-            passes.take_component(out[6], field, 4, 1.5)
-            for c in range(6):
-                passes.put_component(out[7], field[..., c] + c, c, 0.25)
+            passes.take_lines(out[6], field, weights, layers + 3)
+            passes.put_lines(out[7], lines, weights)
             passes.compliance(out[8], 0.3)
             results[compiled] = out
     for plain, fast in zip(*results.values()):
         assert np.abs(fast - plain).max() <= 1e-14 * np.abs(plain).max()
     plain = results[False]
     assert np.array_equal(plain[3][..., 4:4 + m2], np.moveaxis(field[:, :, 1], -1, 0))
-    assert np.array_equal(plain[6], 1.5 * field[..., 4]) and np.array_equal(plain[7][..., 5], 0.25 * (field[..., 5] + 5))
+    # the lines (m1, m2, 6, >= layers): the field's components weighted, then zeros up to the length asked
+    assert np.array_equal(plain[6][:m1, :m2, :, :layers], np.moveaxis(field, 3, 2) * weights[:, None])
+    assert not plain[6][:m1, :m2, :, layers:layers + 3].any() and np.all(plain[6][:m1, :m2, :, layers + 3:] == 7.0)
+    assert np.all(plain[6][m1:] == 7.0) and np.all(plain[6][:, m2:] == 7.0)
+    assert np.array_equal(plain[7], np.moveaxis(lines[:m1, :m2, :, :layers], 2, 3) * weights)
     # Hooke's law (unit modulus) gives the stress back
     assert np.abs(stress_from_strain(plain[8], 0.3) - field.reshape(-1, 6)).max() <= 1e-14 * np.abs(field).max()
 

@@ -21,8 +21,8 @@ whole spectra, each a temporary). Here each is one loop:
                  layers and components of a box, the same storage
 ``surface_planes`` a layer of a box field into the six planes of its surface transforms (``surface_add``: back,
                  scaled, into a box field)
-``take_component`` one component of a box field into the lines of its transforms along ``x3``, weighted
-                 (``put_component``: back)
+``take_lines``   a box field's six components into the lines of its transforms along ``x3``
+                 ``(m1, m2, 6, >= N3)``, weighted, their zero padding written (``put_lines``: back, weighted)
 ``compliance``   Hooke's law inverted in place on ``(n, 6)`` stresses (unit modulus)
 ``fourier_apply`` ``s(q) <- M(q) s(q)``, a 6 x 6 real matrix per wavenumber (a preconditioner's), stored
                  for every wavenumber or, when the components' parities allow, for ``q1, q2 >= 0``
@@ -70,6 +70,14 @@ def kernel_groups(q1, q2, symmetric):
     return groups, first, second
 
 
+def stored_kernels(kernels):
+    """The 21 entries' kernels ``(21, q1, q2, b)``, or ``(21, T, b)`` (those stored, :func:`kernel_groups`), laid out
+    as the stiffness pass reads them: ``(T, 21, b)``, a stored kernel's entries side by side (laid out ``(21, T,
+    b)``, the pass read each wavenumber's from 42 places a block's whole kernels apart, 1.3 MB on a 256^3 lattice:
+    its pass 7-8 % slower there, 5 % on 128^3)."""
+    return np.ascontiguousarray(np.moveaxis(kernels.reshape(kernels.shape[0], -1, kernels.shape[-1]), 0, 1))
+
+
 class _Loops:
     """The passes as loops, for numba."""
 
@@ -95,7 +103,7 @@ class _Loops:
         # the imaginary parts of the second, then the others), K holding (A + Br) / 2, (A - Br) / 2 and Bi / 2:
         # a 128 x 128 x 65 half lattice's pass 24.8 -> 22.3 ms, the static bench's product 1.46-1.51 -> 1.41 its FFTs.
         n1, n2, _, h = spectra.shape
-        stored = direct.shape[1]
+        stored = direct.shape[0]
         values = spectra.reshape(-1).view(np.float64)          # real and imaginary parts, interleaved
         kernel, image = direct.reshape(-1), mirror.reshape(-1).view(np.float64)
         half1, half2 = n1 // 2, n2 // 2
@@ -135,7 +143,7 @@ class _Loops:
                     # the kernels (a swapped group's entries permuted: their rows still in the caches)
                     for e in range(21):
                         entry = e if group == 0 else permutation[e]
-                        at = np.uint64((entry * stored + t) * h + k0)
+                        at = np.uint64((t * 21 + entry) * h + k0)
                         d, re, im = np.uint64(e * C), np.uint64((21 + e) * C), np.uint64((42 + e) * C)
                         if plain[group]:
                             for k in range(n):
@@ -393,19 +401,25 @@ class _Loops:
                     value = scale * planes[c, i, offset + j]
                     out[i, j, layer, c] = out[i, j, layer, c] + value if add else value
 
-    def take_component(out, field, c, weight):
-        m1, m2, m3 = out.shape
+    def take_lines(lines, field, weights, n3):
+        # a cuboid's six components read together, written to the six lines of its column, then their zero padding
+        m1, m2, m3 = field.shape[0], field.shape[1], field.shape[2]
         for i in range(m1):
             for j in range(m2):
-                for k in range(m3):
-                    out[i, j, k] = weight * field[i, j, k, c]
+                for c in range(6):
+                    weight = weights[c]
+                    for k in range(m3):
+                        lines[i, j, c, k] = weight * field[i, j, k, c]
+                    for k in range(m3, n3):
+                        lines[i, j, c, k] = 0.0
 
-    def put_component(out, values, c, weight):
-        m1, m2, m3 = out.shape[:3]
+    def put_lines(out, lines, weights):
+        m1, m2, m3 = out.shape[0], out.shape[1], out.shape[2]
         for i in range(m1):
             for j in range(m2):
                 for k in range(m3):
-                    out[i, j, k, c] = weight * values[i, j, k]
+                    for c in range(6):
+                        out[i, j, k, c] = weights[c] * lines[i, j, c, k]
 
     def compliance(stress, poisson):
         for i in range(stress.shape[0]):
@@ -472,7 +486,8 @@ class NumpyLoops:
 
     @staticmethod
     def unpacked(kernels, groups, permutation):
-        """Stored kernels ``(21, T, b)`` (:func:`kernel_groups`) as ``(21, q1, q2, b)`` for every ``q1, q2 >= 0``."""
+        """Stored kernels ``(T, 21, b)`` (:func:`kernel_groups`) as ``(21, q1, q2, b)`` for every ``q1, q2 >= 0``."""
+        kernels = np.moveaxis(kernels, 1, 0)
         q1, q2 = groups[..., 0].max() + 1, groups[..., 1].max() + 1
         swapped = groups[:, 1, 0] >= 0
         if not swapped.any() and np.array_equal(groups[:, 0, 0] * q2 + groups[:, 0, 1], np.arange(q1 * q2)):
@@ -513,12 +528,15 @@ class NumpyLoops:
             out[:, :, layer, :] = values
 
     @staticmethod
-    def take_component(out, field, c, weight):
-        np.multiply(field[:, :, :out.shape[2], c], weight, out=out)
+    def take_lines(lines, field, weights, n3):
+        m1, m2, m3 = field.shape[:3]
+        lines[:m1, :m2, :, :m3] = np.moveaxis(field, 3, 2) * weights[:, None]
+        lines[:m1, :m2, :, m3:n3] = 0.0
 
     @staticmethod
-    def put_component(out, values, c, weight):
-        np.multiply(values, weight, out=out[..., c])
+    def put_lines(out, lines, weights):
+        m1, m2, m3 = out.shape[:3]
+        np.multiply(np.moveaxis(lines[:m1, :m2, :, :m3], 2, 3), weights, out=out)
 
     @staticmethod
     def compliance(stress, poisson):
@@ -556,8 +574,8 @@ def fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, n
 
 
 #: The loops, by name.
-NAMES = ("stiffness", "surface_sum", "surface_spread", "surface_planes", "surface_add", "take_component",
-         "put_component", "compliance", "fourier_apply")
+NAMES = ("stiffness", "surface_sum", "surface_spread", "surface_planes", "surface_add", "take_lines",
+         "put_lines", "compliance", "fourier_apply")
 _cache = {}
 
 

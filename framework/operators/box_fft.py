@@ -22,9 +22,12 @@ passes read and write together in one run of memory. Laid out ``(6, N1, N2, b)``
 values from six places for each wavenumber; on wide lattices, whose blocks are short, that cost it a third of its
 time (30 glass spheres' 250 x 250 x 120 lattice, blocks of 21: 45 -> 33 ms a block), and the transforms along x1
 and x2, batched over ``6 b`` contiguous values instead of ``b``, ran faster too there (31 -> 25 ms along x1). The
-box's lines' spectra stay ``(6, m1, m2, N3/2 + 1)`` (their transforms along x3 are contiguous: laid out like the
-blocks, a 300-sphere box's own-lattice transforms took 70 ms more), copied into a block a component at a time (as
-one transposing copy, twice as long: 9.6 against 4.5 ms a block of 8 on 100 glass spheres' box).
+box's lines along x3 are laid out the same way, ``(m1, m2, 6, N3/2 + 1)``, all six components transformed by one
+plan in place (the real values of a line in its spectrum's memory): a block's box rows are a slice of them, copied
+in one run of ``b`` values a line. In one block of ``q3`` (every box up to about 64^3 cuboids) the lines are the
+block's own box rows, and nothing is copied between the transforms along x3 and x2. The copies between a box field
+``(m1, m2, m3, 6)`` and the lines read or write a cuboid's six components together (a component at a time, each pass
+wrote every cache line of the field: 4.6 ms of a 64^3 box's product).
 """
 import numpy as np
 
@@ -63,13 +66,15 @@ def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES, least=1):
 
 
 def buffer_sizes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1):
-    """Memory of each of a :class:`BoxFFT`'s buffers [bytes], by name: the box's lines in and out along x3, their
-    spectra, and one block of ``q3``'s spectra on the lattice."""
+    """Memory of each of a :class:`BoxFFT`'s buffers [bytes], by name: one block of ``q3``'s spectra on the lattice
+    and, where there are several blocks, the box's lines' spectra along x3 (in one block, the block holds them)."""
     (m1, m2, _), (n1, n2, n3) = shape, fft_shape
     h = n3 // 2 + 1
-    block = max(k1 - k0 for k0, k1 in q3_blocks(fft_shape, block_bytes, least))
-    return {"lines_in": 8 * m1 * m2 * n3, "lines": 16 * 6 * m1 * m2 * h, "lines_out": 8 * m1 * m2 * n3,
-            "block": 16 * 6 * n1 * n2 * block}
+    blocks = q3_blocks(fft_shape, block_bytes, least)
+    sizes = {"block": 16 * 6 * n1 * n2 * max(k1 - k0 for k0, k1 in blocks)}
+    if len(blocks) > 1:
+        sizes["lines"] = 16 * 6 * m1 * m2 * h
+    return sizes
 
 
 def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1, share=None):
@@ -79,7 +84,7 @@ def buffer_bytes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1, share=None)
     if share is None:
         return sum(sizes.values())
     held = buffer_sizes(shape, *share)
-    return sum(size for name, size in sizes.items() if size > held[name])
+    return sum(size for name, size in sizes.items() if size > held.get(name, 0))
 
 
 class BoxFFT:
@@ -102,7 +107,8 @@ class BoxFFT:
     share : BoxFFT, optional
         A BoxFFT of the same box on another lattice whose buffers this one takes where they are large enough
         (:func:`buffer_bytes`): the two must not run at once (a product's transforms and a preconditioner's are
-        taken in turns). Each zeroes its lines' padding again when the other used the memory since.
+        taken in turns). Each application writes every value it reads (the lines' padding included), so either may
+        follow the other.
     """
 
     def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1, share=None):
@@ -113,15 +119,22 @@ class BoxFFT:
         self.h = n3 // 2 + 1
         self.blocks = q3_blocks(self.fft_shape, block_bytes, least)
         self.block = self.blocks[0][1]
-        self._owner = self if share is None else share._owner    # who holds the memory, and its last user
+        self._owner = self if share is None else share._owner    # who holds the memory
         if share is None:
-            self._memory, self._user = {}, self
-        # along x3: the box's lines, zero-padded (the padding written again only after another BoxFFT's use)
-        self._lines_in = self._buffer("lines_in", (m1, m2, n3), float)
-        self._lines = self._buffer("lines", (6, m1, m2, self.h), complex)        # the box's lines' spectra, all q3
-        self._lines_out = self._buffer("lines_out", (m1, m2, n3), float)
+            self._memory = {}
         self._buffers = {}          # a block of q3's spectra, by block size
         self._all_rows = {}         # every row's inverse along x2, by block size (a target's)
+        # The box's lines along x3, (m1, m2, 6, N3/2 + 1) complex, transformed in place (their real values (m1, m2, 6,
+        # N3) in the same memory, each line's N3/2 + 1 complex numbers): in one block of q3, the block's own box
+        # rows and columns, so nothing is copied between the transforms along x3 and x2 (a 64^3 box's product 4 ms
+        # less, and 26 MB); in several, an array of their own, a block's q3 copied in and out.
+        self.direct = len(self.blocks) == 1
+        if self.direct:
+            block = self._block_buffer(self.block)
+            self._lines, self._lines_real = block[:m1, :m2], block.view(float)
+        else:
+            self._lines = self._buffer("lines", (m1, m2, 6, self.h), complex)
+            self._lines_real = self._lines.view(float)
         self.measure, self.applications = effort == "FFTW_MEASURE", 0
         later = self.measure and n1 * n2 * n3 <= MEASURE_AT_ONCE_POINTS
         self._plan("wisdom" if later else effort)
@@ -139,43 +152,39 @@ class BoxFFT:
             self._memory[name] = array.reshape(-1).view(np.uint8)
         return array
 
-    def _claim(self):
-        """Take the shared memory for an application: the lines' padding along x3 zeroed again where another BoxFFT
-        (or a planning, which writes on the buffers) used it since."""
-        if self._owner._user is not self:
-            self._lines_in[:, :, self.shape[2]:] = 0.0
-            self._owner._user = self
+    def _block_buffer(self, size):
+        """The spectra ``(N1, N2, 6, size)`` of a block of ``size`` q3 (a shorter last block in the first's memory)."""
+        if size not in self._buffers:
+            n1, n2 = self.fft_shape[:2]
+            first = self._buffers.get(self.block)
+            self._buffers[size] = (self._buffer("block", (n1, n2, 6, size), complex)
+                                   if first is None or size > self.block
+                                   else first.reshape(-1)[:6 * n1 * n2 * size].reshape(n1, n2, 6, size))
+        return self._buffers[size]
 
     def _plan(self, effort):
-        """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are kept); ``"wisdom"``: measured
-        where FFTW's wisdom holds the plan, else estimated (:class:`framework.fft.Transform`)."""
-        self._owner._user = None            # measuring writes on the buffers another BoxFFT may share
+        """(Re)plan every transform with FFTW's ``effort`` (the buffers' contents are not kept: each application
+        writes what it reads); ``"wisdom"``: measured where FFTW's wisdom holds the plan, else estimated
+        (:class:`framework.fft.Transform`)."""
         self.effort = effort
-        self._line_forward = [fft.Transform(self._lines_in, self._lines[c], axes=(2,), effort=effort)
-                              for c in range(6)]
-        self._line_inverse = [fft.Transform(self._lines[c], self._lines_out, axes=(2,), effort=effort)
-                              for c in range(6)]      # each from its component's spectra (which it overwrites)
+        m1, m2, n3 = self.shape[0], self.shape[1], self.fft_shape[2]
+        values = self._lines_real[:m1, :m2, :, :n3]
+        self._line_forward = fft.Transform(values, self._lines, axes=(3,), effort=effort)
+        self._line_inverse = fft.Transform(self._lines, values, axes=(3,), effort=effort)
         self._plans = {}
         for size in sorted({k1 - k0 for k0, k1 in self.blocks}, reverse=True):     # the first block's buffer first
             self._block_plans(size)
         if effort == "wisdom":      # measured if every transform was (none to plan again), else estimated
-            transforms = [*self._line_forward, *self._line_inverse, *(t for plans in self._plans.values()
-                                                                     for t in plans[1:])]
+            transforms = [self._line_forward, self._line_inverse, *(t for plans in self._plans.values()
+                                                                    for t in plans[1:])]
             self.effort = ("FFTW_MEASURE" if all(t.effort == "FFTW_MEASURE" for t in transforms)
                            else "FFTW_ESTIMATE")
 
     def _block_plans(self, size):
         """Buffer ``(N1, N2, 6, size)`` and its transforms (for the block size and for the last, shorter one)."""
         if size not in self._plans:
-            m1 = self.shape[0]
-            n1, n2 = self.fft_shape[:2]
-            if size not in self._buffers:       # a shorter last block in the first block's memory
-                first = self._buffers.get(self.block)
-                self._buffers[size] = (self._buffer("block", (n1, n2, 6, size), complex)
-                                       if first is None or size > self.block
-                                       else first.reshape(-1)[:6 * n1 * n2 * size].reshape(n1, n2, 6, size))
-            spectra = self._buffers[size]
-            rows = spectra[:m1]
+            spectra = self._block_buffer(size)
+            rows = spectra[:self.shape[0]]
             effort = self.effort
             self._plans[size] = (spectra,
                                  fft.Transform(rows, rows, axes=(1,), effort=effort),                # x2, box rows
@@ -205,34 +214,28 @@ class BoxFFT:
         self.applications += 1
         if self.measure and self.effort != "FFTW_MEASURE" and self.applications >= MEASURE_AFTER:
             self._plan("FFTW_MEASURE")
-        passes = loops()
         for k0, k1, spectra, rows_inverse in self._passes(field, spectral_pass, weights_in):
             rows_inverse()
-            for c in range(6):      # a component at a time (a transposing copy took twice as long)
-                self._lines[c, :, :, k0:k1] = spectra[:m1, :m2, c]
+            if not self.direct:
+                self._lines[..., k0:k1] = spectra[:m1, :m2]
         out = np.empty((m1, m2, m3, 6))
-        scale = 1.0 / (n1 * n2 * n3)
-        for c in range(6):
-            self._line_inverse[c]()
-            passes.put_component(out, self._lines_out[:, :, :m3], c, scale * weights_out[c])
+        self._line_inverse()
+        loops().put_lines(out, self._lines_real, (1.0 / (n1 * n2 * n3)) * np.asarray(weights_out, dtype=float))
         return out
 
     def _passes(self, field, spectral_pass, weights_in):
         """The box's lines transformed along x3, then for each block of q3 its spectra transformed along x2 and x1,
         passed, and back along x1: yields ``(k0, k1, spectra, rows_inverse)`` (the box rows' transform back along
         x2), the padding zeroed again at the next block."""
-        (m1, m2, m3) = self.shape
-        self._claim()
-        passes = loops()
-        for c in range(6):
-            passes.take_component(self._lines_in[:, :, :m3], field, c, weights_in[c])
-            self._line_forward[c]()
+        (m1, m2, _), n3 = self.shape, self.fft_shape[2]
+        loops().take_lines(self._lines_real, field, np.asarray(weights_in, dtype=float), n3)
+        self._line_forward()
         for k0, k1 in self.blocks:
             spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             spectra[m1:] = 0.0                      # the padding (the last inverse left values there)
             spectra[:m1, m2:] = 0.0
-            for c in range(6):
-                spectra[:m1, :m2, c] = self._lines[c, :, :, k0:k1]
+            if not self.direct:
+                spectra[:m1, :m2] = self._lines[..., k0:k1]
             rows_forward()
             forward()
             spectral_pass(spectra, k0, k1)
@@ -264,13 +267,11 @@ class BoxFFT:
     def transforms_alone(self):
         """Run the transforms of one :meth:`apply`, in its order, without the copies and the pass: the FFT
         work a product must do (the benches' floor)."""
-        for c in range(6):
-            self._line_forward[c]()
+        self._line_forward()
         for k0, k1 in self.blocks:
             _, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
             rows_forward()
             forward()
             inverse()
             rows_inverse()
-        for c in range(6):
-            self._line_inverse[c]()
+        self._line_inverse()

@@ -30,7 +30,7 @@ import numpy as np
 from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
-from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_groups, loops
+from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_groups, loops, stored_kernels
 from .box_fft import BLOCK_BYTES, LEAST_Q3, BoxFFT, buffer_bytes, q3_blocks
 from .box_surface import BoxSurface
 
@@ -625,8 +625,7 @@ class HalfSpaceEigenstrain:
         self._kernel_blocks = {}
         for k0 in sorted(full_blocks):
             direct, mirror = full_blocks.pop(k0)            # each block packed, then its whole arrays freed
-            self._kernel_blocks[k0] = tuple(np.ascontiguousarray(part[:, first, second]) if self.symmetric
-                                            else part.reshape(len(ENTRIES), -1, part.shape[-1])
+            self._kernel_blocks[k0] = tuple(stored_kernels(part[:, first, second] if self.symmetric else part)
                                             for part in (direct, mirror))
             del direct, mirror
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
@@ -833,7 +832,7 @@ class HalfSpaceEigenstrain:
         return blocks[0] if len(blocks) == 1 else np.concatenate(blocks, axis=-1)
 
     def _unpacked(self, kernels):
-        """Stored kernels ``(21, T, b)`` as ``(21, N1/2+1, N2/2+1, b)`` (every ``q1, q2 >= 0``; a copy where half of
+        """Stored kernels ``(T, 21, b)`` as ``(21, N1/2+1, N2/2+1, b)`` (every ``q1, q2 >= 0``; a copy where half of
         them are stored, else the stored array itself)."""
         return NumpyLoops.unpacked(kernels, self._groups, PERMUTATION)
 

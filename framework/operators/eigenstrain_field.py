@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from ._box_loops import PERMUTATION, kernel_groups, loops
+from ._box_loops import PERMUTATION, kernel_groups, loops, stored_kernels
 from . import box_fft
 from .box_surface import BoxSurface
 from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, kernel_spectra, surface_traction_kernels)
@@ -121,7 +121,7 @@ class EigenstrainField:
         self.reach = tuple(_largest_offset(limits[a], firsts[a], lasts[a], shape[a]) for a in range(3))
         self.fft_shape = tuple(fft.even_size(2 * r + 2) for r in self.reach)
         self._block_bytes = box_fft.BLOCK_BYTES          # the kernels' blocks of q3 and the transforms' the same
-        self._kernels = {k0: tuple(part.reshape(len(ENTRIES), -1, part.shape[-1]) for part in block)
+        self._kernels = {k0: tuple(stored_kernels(part) for part in block)
                          for k0, block in self._spectra().items()}       # every (q1, q2 >= 0) stored, in order
         self._groups = kernel_groups(*(n // 2 + 1 for n in self.fft_shape[:2]), False)[0]
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
