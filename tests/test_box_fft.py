@@ -95,7 +95,8 @@ def test_kernels_held_in_blocks_give_the_same_product(monkeypatch):
     monkeypatch.setattr(box_fft, "BLOCK_BYTES", 6 * 18 * 16 * 16 * 2)      # blocks of two q3
     monkeypatch.setattr(eigenstrain, "q3_blocks", lambda shape, least: box_fft.q3_blocks(shape, box_fft.BLOCK_BYTES))
     several = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
-    several._ffts["padded"] = box_fft.BoxFFT(several.shape, several.fft_shape, block_bytes=box_fft.BLOCK_BYTES)
+    several._ffts["padded"] = box_fft.BoxFFT(several.shape, several.fft_shape, block_bytes=box_fft.BLOCK_BYTES,
+                                             by_columns=True)
     assert one.fft_shape == (18, 16, 16) and len(several._kernel_blocks) == 5      # q3 = 0 .. 8 by twos
     expected = one.strain(field)
     assert np.abs(several.strain(field) - expected).max() <= 1e-14 * np.abs(expected).max()
@@ -144,8 +145,8 @@ def test_buffer_bytes_counts_the_buffers_a_box_fft_holds(block_bytes):
     box = BoxFFT((5, 6, 7), (10, 12, 14), effort="FFTW_ESTIMATE", **kwargs)
     box.apply(np.ones((5, 6, 7, 6)), lambda spectra, k0, k1: None)
     assert box.direct == (block_bytes is None)          # one block of q3: the lines are the block's box rows
-    held = [box._buffers[box.block]] + ([] if box.direct else [box._lines])
-    assert box_fft.buffer_bytes((5, 6, 7), (10, 12, 14), **kwargs) == sum(a.nbytes for a in held)
+    assert set(box._memory) == ({"block"} if box.direct else {"block", "lines"})
+    assert box_fft.buffer_bytes((5, 6, 7), (10, 12, 14), **kwargs) == sum(a.nbytes for a in box._memory.values())
 
 
 def test_blocks_hold_at_least_a_vector_of_q3():
@@ -154,13 +155,18 @@ def test_blocks_hold_at_least_a_vector_of_q3():
     BLOCK_BYTES alone; buffer_bytes counts the larger block."""
     from framework.operators import box_fft
     wide = (744, 744, 120)                               # 300 glass spheres' lattice: 53 MB a q3
-    assert max(k1 - k0 for k0, k1 in box_fft.q3_blocks(wide)) == 2
+    few = box_fft.BLOCK_BYTES // (6 * 744 * 744 * 16)
+    assert 1 <= few < box_fft.LEAST_Q3 and max(k1 - k0 for k0, k1 in box_fft.q3_blocks(wide)) == few
     blocks = box_fft.q3_blocks(wide, least=box_fft.LEAST_Q3)
     assert blocks[0][0] == 0 and blocks[-1][1] == 61 and all(b[1] == c[0] for b, c in zip(blocks, blocks[1:]))
     assert all(k1 - k0 == box_fft.LEAST_Q3 for k0, k1 in blocks[:-1])
     assert box_fft.q3_blocks((744, 744, 10), least=box_fft.LEAST_Q3) == [(0, 6)]
     assert (box_fft.buffer_bytes((372, 372, 56), wide, least=box_fft.LEAST_Q3)
-            - box_fft.buffer_bytes((372, 372, 56), wide)) == 16 * 6 * 744 * 744 * (box_fft.LEAST_Q3 - 2)
+            - box_fft.buffer_bytes((372, 372, 56), wide)) == 16 * 6 * 744 * 744 * (box_fft.LEAST_Q3 - few)
+    # blocks of more q3 than a vector: a multiple of it, the last block shorter (a 128^3 box: three of 40, one of 9)
+    assert box_fft.q3_blocks((256, 256, 256)) == [(0, 40), (40, 80), (80, 120), (120, 129)]
+    assert box_fft.q3_blocks((256, 256, 256), block_bytes=6 * 256 * 256 * 16 * 19) == [
+        (k0, min(129, k0 + 16)) for k0 in range(0, 129, 16)]
 
 
 @pytest.mark.parametrize("block_bytes", [box_fft_module.BLOCK_BYTES, 3000])
@@ -193,3 +199,43 @@ def test_a_box_fft_sharing_anothers_buffers_gives_what_it_gives_alone(block_byte
     assert box_fft.buffer_bytes(shape, padded, block_bytes, share=(own, block_bytes, 1)) > 0
     with pytest.raises(ValueError, match="same box"):
         BoxFFT((5, 6, 6), own, share=large)
+
+
+@pytest.mark.parametrize("block_bytes, column_bytes, first", [(box_fft_module.BLOCK_BYTES, 2 * 2 * 10 * 6 * 8 * 16, (0, 2)),
+                                                               (3000, 2 * 10 * 6 * 16, (0, 1))])
+def test_a_pass_by_columns_gives_the_whole_pass(monkeypatch, block_bytes, column_bytes, first):
+    """Made by_columns, a BoxFFT takes its transforms along x1 a few columns q2 (and their reversals) at a time and
+    passes each group between them: every column passed once, and the result (on the box, or on a target around it)
+    that of the whole block's pass, to rounding; in one block of q3 or several, a group of one column or several."""
+    monkeypatch.setattr(box_fft_module, "COLUMN_BYTES", column_bytes)     # groups of two columns or of one
+    shape, lattice = (5, 6, 7), (10, 12, 14)
+    rng = np.random.default_rng(5)
+    field = rng.normal(size=(*shape, 6))
+    factors = rng.normal(size=(10, 12, 6, 8)) + 1j * rng.normal(size=(10, 12, 6, 8))
+
+    def whole(spectra, k0, k1):
+        spectra *= factors[..., k0:k1]
+    seen = []
+
+    def by_columns(spectra, k0, k1, columns):
+        c0, c1 = columns
+        chosen = sorted({c % 12 for c in range(c0, c1)} | {-c % 12 for c in range(c0, c1)})
+        seen.extend((k0, c) for c in chosen)
+        spectra[:, chosen] *= factors[:, chosen, :, k0:k1]
+    plain = BoxFFT(shape, lattice, effort="FFTW_ESTIMATE", block_bytes=block_bytes)
+    grouped = BoxFFT(shape, lattice, effort="FFTW_ESTIMATE", block_bytes=block_bytes, by_columns=True)
+    assert grouped.column_ranges[0] == first and grouped.column_ranges[-1][1] == 7
+    expected = plain.apply(field, whole)
+    for _ in range(2):          # (the padding zeroed again after each)
+        seen.clear()
+        out = grouped.apply(field, by_columns, columns=True)
+        assert np.abs(out - expected).max() <= 1e-14 * np.abs(expected).max()
+        assert sorted(seen) == sorted((k0, c) for k0, _ in grouped.blocks for c in range(12))
+    assert np.abs(grouped.apply(field, whole) - expected).max() <= 1e-14 * np.abs(expected).max()
+    target = [np.arange(-1, 7) % 10, np.arange(8) % 12, np.arange(9) % 14]
+    around = plain.apply(field, whole, target=target)
+    assert np.abs(grouped.apply(field, by_columns, target=target, columns=True) - around).max() <= 1e-14 * np.abs(
+        around).max()
+    assert np.abs(grouped.apply(field, by_columns, columns=True) - expected).max() <= 1e-14 * np.abs(expected).max()
+    with pytest.raises(ValueError, match="by_columns"):
+        plain.apply(field, by_columns, columns=True)

@@ -150,9 +150,14 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
 
     def complex_normal(*shape):
         return rng.normal(size=shape) + 1j * rng.normal(size=shape)
-    spectra = complex_normal(n1, n2, 6, h)            # a block of q3 (N1, N2, 6, b), as BoxFFT lays it out
-    groups = _box_loops.kernel_groups(n1 // 2 + 1, n2 // 2 + 1, symmetric)[0]
-    direct, mirror = rng.normal(size=(len(groups), 21, h)), complex_normal(len(groups), 21, h)
+    # a block of q3 (N1, N2, 6, b) as BoxFFT lays it out: each row q1 followed by a padding
+    spectra = np.zeros((n1, 6 * n2 * h + 3), complex)[:, :6 * n2 * h].reshape(n1, n2, 6, h)
+    spectra[...] = complex_normal(n1, n2, 6, h)
+    table = _box_loops.kernel_table(n1 // 2 + 1, n2 // 2 + 1, symmetric)[0]
+    stored = table[..., 0].max() + 1
+    direct, mirror = rng.normal(size=(stored, 21, h)), complex_normal(stored, 21, h)
+    every = _box_loops.pass_items(table, range(n2 // 2 + 1))
+    some = _box_loops.pass_items(table, [0, n2 // 2] if n2 > 2 else [0])     # columns and their reversals only
     first, second = np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES])
     parity1, parity2 = np.array([1.0, -1, 1, -1, 1, -1]), np.array([1.0, 1, -1, -1, 1, 1])
     m1, m2, layers, width = max(2, n1 // 2), max(2, n2 // 2), 3, n2 + 5
@@ -167,31 +172,46 @@ def test_compiled_box_loops_equal_their_numpy_forms(lattice, symmetric):
         with _fused.use_compiled(compiled):
             passes = _box_loops.loops()
             assert (passes is _box_loops.NumpyLoops) is not compiled
-            out = [spectra.copy(), np.zeros((n1, h), complex), np.empty((6, n1, h), complex),
+            out = [spectra.copy(), spectra.copy(), np.zeros((n1, h), complex), np.empty((6, n1, h), complex),
                    np.zeros((6, m1, width)), field.copy(), field.copy(), np.full((m1 + 1, m2 + 2, 6, layers + 4), 7.0),
                    np.empty_like(field), field.reshape(-1, 6).copy()]
-            passes.stiffness(out[0], direct, mirror, groups, _box_loops.PERMUTATION, first, second, parity1, parity2,
-                             np.array([1.0, 1, 1, -1, -1, 1]))
-            passes.surface_sum(out[1], kernels, factors, parities, surface, 6)
-            passes.surface_spread(out[2], kernels, factors, parities, surface[0], 12)
-            passes.surface_planes(out[3], field, 1, 4)
-            passes.surface_add(out[4], planes, 2, 3, 0.5, True)
-            passes.surface_add(out[5], planes, 0, 3, 0.5, False)
-            passes.take_lines(out[6], field, weights, layers + 3)
-            passes.put_lines(out[7], lines, weights)
-            passes.compliance(out[8], 0.3)
+            for spectra_out, items in zip(out[:2], (every, some)):
+                padded = np.zeros((n1, 6 * n2 * h + 3), complex)[:, :6 * n2 * h].reshape(n1, n2, 6, h)
+                padded[...] = spectra_out
+                passes.stiffness(padded, direct, mirror, items, _box_loops.PERMUTATION, first, second, parity1,
+                                 parity2, np.array([1.0, 1, 1, -1, -1, 1]))
+                spectra_out[...] = padded
+            passes.surface_sum(out[2], kernels, factors, parities, surface, 6)
+            passes.surface_spread(out[3], kernels, factors, parities, surface[0], 12)
+            passes.surface_planes(out[4], field, 1, 4)
+            passes.surface_add(out[5], planes, 2, 3, 0.5, True)
+            passes.surface_add(out[6], planes, 0, 3, 0.5, False)
+            passes.take_lines(out[7], field, weights, layers + 3)
+            passes.put_lines(out[8], lines, weights)
+            passes.compliance(out[9], 0.3)
+            by_columns = spectra.copy()          # every column in turn (BoxFFT's by_columns) is the whole pass
+            for column in range(n2 // 2 + 1):
+                passes.stiffness(by_columns, direct, mirror, _box_loops.pass_items(table, [column]),
+                                 _box_loops.PERMUTATION, first, second, parity1, parity2, np.array([1.0, 1, 1, -1, -1, 1]))
+            out.append(by_columns)
             results[compiled] = out
     for plain, fast in zip(*results.values()):
         assert np.abs(fast - plain).max() <= 1e-14 * np.abs(plain).max()
     plain = results[False]
-    assert np.array_equal(plain[3][..., 4:4 + m2], np.moveaxis(field[:, :, 1], -1, 0))
+    assert np.abs(plain[10] - plain[0]).max() <= 1e-14 * np.abs(plain[0]).max()
+    # the pass over some columns changes those and their reversals only
+    touched = np.zeros(n2, bool)
+    touched[[0, n2 // 2, -(n2 // 2)]] = True
+    assert np.array_equal(plain[1][:, ~touched], spectra[:, ~touched])
+    assert np.array_equal(plain[1][:, touched], plain[0][:, touched])
+    assert np.array_equal(plain[4][..., 4:4 + m2], np.moveaxis(field[:, :, 1], -1, 0))
     # the lines (m1, m2, 6, >= layers): the field's components weighted, then zeros up to the length asked
-    assert np.array_equal(plain[6][:m1, :m2, :, :layers], np.moveaxis(field, 3, 2) * weights[:, None])
-    assert not plain[6][:m1, :m2, :, layers:layers + 3].any() and np.all(plain[6][:m1, :m2, :, layers + 3:] == 7.0)
-    assert np.all(plain[6][m1:] == 7.0) and np.all(plain[6][:, m2:] == 7.0)
-    assert np.array_equal(plain[7], np.moveaxis(lines[:m1, :m2, :, :layers], 2, 3) * weights)
+    assert np.array_equal(plain[7][:m1, :m2, :, :layers], np.moveaxis(field, 3, 2) * weights[:, None])
+    assert not plain[7][:m1, :m2, :, layers:layers + 3].any() and np.all(plain[7][:m1, :m2, :, layers + 3:] == 7.0)
+    assert np.all(plain[7][m1:] == 7.0) and np.all(plain[7][:, m2:] == 7.0)
+    assert np.array_equal(plain[8], np.moveaxis(lines[:m1, :m2, :, :layers], 2, 3) * weights)
     # Hooke's law (unit modulus) gives the stress back
-    assert np.abs(stress_from_strain(plain[8], 0.3) - field.reshape(-1, 6)).max() <= 1e-14 * np.abs(field).max()
+    assert np.abs(stress_from_strain(plain[9], 0.3) - field.reshape(-1, 6)).max() <= 1e-14 * np.abs(field).max()
 
 
 def stiff_sphere_problem(**options):

@@ -44,24 +44,37 @@ MEASURE_AFTER = 64
 MEASURE_AT_ONCE_POINTS = 2 ** 22
 
 #: Memory the spectra of one block of ``q3`` wavenumbers may take [bytes] (a small box takes them all at once).
-#: Shorter blocks cost the spectral pass its runs along ``q3``: on a 256 x 256 x 256 lattice it takes
-#: 0.62 s a product in one block, 0.74 s in blocks of 65, 0.81-0.85 in blocks of 19-33, 1.3 s in blocks of 10.
-BLOCK_BYTES = 128 * 2**20
+#: Shorter blocks cost the spectral pass its runs along ``q3``: on a 256 x 256 x 256 lattice (a 128^3 box) a
+#: product's pass took 226 ms in blocks of 19 (128 MiB), 205 in blocks of 24, 181-189 in blocks of 32 or 40, and
+#: the product 1.01, 0.97 (blocks of 16), 0.95 and 0.92 s (blocks of 40, 252 MB).
+BLOCK_BYTES = 256 * 2**20
+#: A block's ``q3`` are a multiple of this many where there are more (the compiled pass's vectors: 19 q3 took as
+#: long as 24).
+VECTOR = 8
 #: The eigenstrain operator's blocks hold at least this many ``q3`` (one vector of its spectral pass) whatever their
 #: memory: on a wide lattice :data:`BLOCK_BYTES` left a few, and the pass, which runs along ``q3``, slowed to three
 #: times its speed on long runs (300 glass spheres' 744 x 744 x 120 lattice: blocks of 2, its pass 3.9 s against its
 #: transforms' 2.7 s; blocks of 8, 430 MB, 1.9 s: a product 10.4 -> 8.0 s).
 LEAST_Q3 = 8
+#: Complex numbers after each row ``q1`` of a block's spectra: rows a multiple of 4 KiB apart (blocks of 8, 16, 32
+#: q3 on a 256-wide lattice) mapped the transforms along x1 onto a few cache sets, 1.4-1.5 ms a q3 against 1.0
+#: (a 128^3 box's product in blocks of 32: its transforms along x1 199 -> 131 ms).
+ROW_PAD = 4
+#: Memory of the columns ``q2`` (with their reversals) whose transforms along x1 and pass are taken together
+#: (``by_columns``) [bytes]: they stay in the processor's caches between the three, where a whole block went through
+#: the memory three times (the pass 20 -> 12 ns a wavenumber in the caches).
+COLUMN_BYTES = 2 * 2**20
 
 
 def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES, least=1):
     """The blocks ``[(k0, k1), ...]`` of ``q3`` wavenumbers (``0 .. N3/2``) whose six spectra on the lattice
-    ``fft_shape`` take at most ``block_bytes`` each, or hold ``least`` wavenumbers where that takes more, of even
-    sizes (the passes like long runs)."""
+    ``fft_shape`` take at most ``block_bytes`` each, or hold ``least`` wavenumbers where that takes more: all of one
+    size, a multiple of :data:`VECTOR` where it is more, but the last."""
     n1, n2, n3 = fft_shape
     h = n3 // 2 + 1
-    largest = int(min(h, max(1, least, block_bytes // (6 * n1 * n2 * 16))))
-    size = -(-h // -(-h // largest))
+    size = int(min(h, max(1, least, block_bytes // (6 * n1 * n2 * 16))))
+    if VECTOR < size < h:
+        size -= size % VECTOR
     return [(k0, min(h, k0 + size)) for k0 in range(0, h, size)]
 
 
@@ -71,7 +84,7 @@ def buffer_sizes(shape, fft_shape, block_bytes=BLOCK_BYTES, least=1):
     (m1, m2, _), (n1, n2, n3) = shape, fft_shape
     h = n3 // 2 + 1
     blocks = q3_blocks(fft_shape, block_bytes, least)
-    sizes = {"block": 16 * 6 * n1 * n2 * max(k1 - k0 for k0, k1 in blocks)}
+    sizes = {"block": 16 * n1 * (6 * n2 * max(k1 - k0 for k0, k1 in blocks) + ROW_PAD)}
     if len(blocks) > 1:
         sizes["lines"] = 16 * 6 * m1 * m2 * h
     return sizes
@@ -109,9 +122,14 @@ class BoxFFT:
         (:func:`buffer_bytes`): the two must not run at once (a product's transforms and a preconditioner's are
         taken in turns). Each application writes every value it reads (the lines' padding included), so either may
         follow the other.
+    by_columns : bool
+        Take a block's transforms along x1 a few columns ``q2`` at a time (:data:`COLUMN_BYTES`, with their
+        reversals ``-q2``: :attr:`column_ranges` of ``0 .. N2/2``), so that :meth:`apply` may pass each group between
+        its forward and inverse transforms while it is in the caches (``columns=True``).
     """
 
-    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1, share=None):
+    def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1, share=None,
+                 by_columns=False):
         self.shape, self.fft_shape = tuple(shape), tuple(fft_shape)
         (m1, m2, _), (n1, n2, n3) = self.shape, self.fft_shape
         if share is not None and share.shape != self.shape:
@@ -123,6 +141,11 @@ class BoxFFT:
         if share is None:
             self._memory = {}
         self._buffers = {}          # a block of q3's spectra, by block size
+        self._state = None          # (the BoxFFT, the block size) whose rows q1 >= m1 the memory holds zeroed
+        self.by_columns = bool(by_columns)
+        n1, n2 = self.fft_shape[:2]
+        width = max(1, COLUMN_BYTES // (2 * n1 * 6 * self.block * 16))
+        self.column_ranges = [(c0, min(n2 // 2 + 1, c0 + width)) for c0 in range(0, n2 // 2 + 1, width)]
         self._all_rows = {}         # every row's inverse along x2, by block size (a target's)
         # The box's lines along x3, (m1, m2, 6, N3/2 + 1) complex, transformed in place (their real values (m1, m2, 6,
         # N3) in the same memory, each line's N3/2 + 1 complex numbers): in one block of q3, the block's own box
@@ -153,13 +176,17 @@ class BoxFFT:
         return array
 
     def _block_buffer(self, size):
-        """The spectra ``(N1, N2, 6, size)`` of a block of ``size`` q3 (a shorter last block in the first's memory)."""
+        """The spectra ``(N1, N2, 6, size)`` of a block of ``size`` q3, each row ``q1`` followed by :data:`ROW_PAD`
+        numbers (a shorter last block in the first's memory)."""
         if size not in self._buffers:
             n1, n2 = self.fft_shape[:2]
-            first = self._buffers.get(self.block)
-            self._buffers[size] = (self._buffer("block", (n1, n2, 6, size), complex)
-                                   if first is None or size > self.block
-                                   else first.reshape(-1)[:6 * n1 * n2 * size].reshape(n1, n2, 6, size))
+            pitch = 6 * n2 * size + ROW_PAD
+            if self.block not in self._buffers or size > self.block:
+                memory = self._buffer("block", (n1 * pitch,), complex)
+            else:
+                first = self._buffers[self.block]
+                memory = np.lib.stride_tricks.as_strided(first, shape=(n1 * pitch,), strides=(first.itemsize,))
+            self._buffers[size] = memory[:n1 * pitch].reshape(n1, pitch)[:, :6 * n2 * size].reshape(n1, n2, 6, size)
         return self._buffers[size]
 
     def _plan(self, effort):
@@ -167,6 +194,7 @@ class BoxFFT:
         writes what it reads); ``"wisdom"``: measured where FFTW's wisdom holds the plan, else estimated
         (:class:`framework.fft.Transform`)."""
         self.effort = effort
+        self._owner._state = None       # measuring writes on the buffers
         m1, m2, n3 = self.shape[0], self.shape[1], self.fft_shape[2]
         values = self._lines_real[:m1, :m2, :, :n3]
         self._line_forward = fft.Transform(values, self._lines, axes=(3,), effort=effort)
@@ -175,30 +203,43 @@ class BoxFFT:
         for size in sorted({k1 - k0 for k0, k1 in self.blocks}, reverse=True):     # the first block's buffer first
             self._block_plans(size)
         if effort == "wisdom":      # measured if every transform was (none to plan again), else estimated
-            transforms = [self._line_forward, self._line_inverse, *(t for plans in self._plans.values()
-                                                                    for t in plans[1:])]
+            transforms = [self._line_forward, self._line_inverse]
+            for _, rows_forward, slabs, rows_inverse in self._plans.values():
+                transforms += [rows_forward, rows_inverse, *(t for _, forward, inverse in slabs
+                                                              for t in (*forward, *inverse))]
             self.effort = ("FFTW_MEASURE" if all(t.effort == "FFTW_MEASURE" for t in transforms)
                            else "FFTW_ESTIMATE")
 
     def _block_plans(self, size):
-        """Buffer ``(N1, N2, 6, size)`` and its transforms (for the block size and for the last, shorter one)."""
+        """Buffer ``(N1, N2, 6, size)`` and its transforms (for the block size and for the last, shorter one):
+        ``(spectra, rows_forward, slabs, rows_inverse)``, ``slabs`` the transforms along x1 as
+        ``[(columns, forward, inverse), ...]`` (one slab of every column where not :attr:`by_columns`)."""
         if size not in self._plans:
             spectra = self._block_buffer(size)
             rows = spectra[:self.shape[0]]
-            effort = self.effort
+            effort, n2 = self.effort, self.fft_shape[1]
+            slabs = []
+            for c0, c1 in (self.column_ranges if self.by_columns else [(0, n2)]):
+                parts = [spectra[:, c0:c1]]
+                low, high = max(n2 - c1 + 1, n2 // 2 + 1), min(n2 - c0 + 1, n2)      # the reversals' columns
+                if self.by_columns and low < high:
+                    parts.append(spectra[:, low:high])
+                slabs.append(((c0, c1), [fft.Transform(part, part, axes=(0,), effort=effort) for part in parts],
+                              [fft.Transform(part, part, axes=(0,), inverse=True, effort=effort) for part in parts]))
             self._plans[size] = (spectra,
                                  fft.Transform(rows, rows, axes=(1,), effort=effort),                # x2, box rows
-                                 fft.Transform(spectra, spectra, axes=(0,), effort=effort),          # x1, all lines
-                                 fft.Transform(spectra, spectra, axes=(0,), inverse=True, effort=effort),
+                                 slabs,
                                  fft.Transform(rows, rows, axes=(1,), inverse=True, effort=effort))
         return self._plans[size]
 
-    def apply(self, field, spectral_pass, weights_in=None, weights_out=None, target=None):
+    def apply(self, field, spectral_pass, weights_in=None, weights_out=None, target=None, columns=False):
         """The box field ``(m1, m2, m3, 6)`` of ``F^-1 [spectral_pass(F (field * weights_in))] * weights_out``.
 
         ``spectral_pass(spectra, k0, k1)`` changes the six spectra ``(N1, N2, 6, k1 - k0)`` of the
         wavenumbers ``q3 = k0 .. k1 - 1`` in place (``q1, q2`` over the whole lattice, unnormalised);
-        the result is normalised by the lattice's number of points.
+        the result is normalised by the lattice's number of points. With ``columns`` (a BoxFFT made
+        ``by_columns``), ``spectral_pass(spectra, k0, k1, (c0, c1))`` changes those of the columns ``c0 <= q2 < c1``
+        and their reversals only, called for each group of :attr:`column_ranges` while it is in the caches.
 
         ``target``, three arrays of lattice indices (one per axis): the result ``(t1, t2, t3, 6)`` at those
         points instead of the box's (the box lies at the lattice's indices ``0 .. m - 1``). Its spectra along
@@ -209,12 +250,13 @@ class BoxFFT:
         weights_in = ones if weights_in is None else weights_in
         weights_out = ones if weights_out is None else weights_out
         if target is not None:
-            return self._apply_to(field, spectral_pass, weights_in, weights_out, [np.asarray(t) for t in target])
+            return self._apply_to(field, spectral_pass, weights_in, weights_out, [np.asarray(t) for t in target],
+                                  columns)
         (m1, m2, m3), (n1, n2, n3) = self.shape, self.fft_shape
         self.applications += 1
         if self.measure and self.effort != "FFTW_MEASURE" and self.applications >= MEASURE_AFTER:
             self._plan("FFTW_MEASURE")
-        for k0, k1, spectra, rows_inverse in self._passes(field, spectral_pass, weights_in):
+        for k0, k1, spectra, rows_inverse in self._passes(field, spectral_pass, weights_in, columns=columns):
             rows_inverse()
             if not self.direct:
                 self._lines[..., k0:k1] = spectra[:m1, :m2]
@@ -223,32 +265,47 @@ class BoxFFT:
         loops().put_lines(out, self._lines_real, (1.0 / (n1 * n2 * n3)) * np.asarray(weights_out, dtype=float))
         return out
 
-    def _passes(self, field, spectral_pass, weights_in):
+    def _passes(self, field, spectral_pass, weights_in, clear=True, columns=False):
         """The box's lines transformed along x3, then for each block of q3 its spectra transformed along x2 and x1,
-        passed, and back along x1: yields ``(k0, k1, spectra, rows_inverse)`` (the box rows' transform back along
-        x2), the padding zeroed again at the next block."""
+        passed, and back along x1 (by groups of columns where :attr:`by_columns`): yields ``(k0, k1, spectra,
+        rows_inverse)`` (the box rows' transform back along x2). With ``clear``, the rows ``q1 >= m1`` are zeroed
+        again after the transforms back along x1 (a target reads them: then at the next block)."""
         (m1, m2, _), n3 = self.shape, self.fft_shape[2]
+        if columns and not self.by_columns:
+            raise ValueError("a pass by columns needs a BoxFFT made by_columns")
         loops().take_lines(self._lines_real, field, np.asarray(weights_in, dtype=float), n3)
         self._line_forward()
         for k0, k1 in self.blocks:
-            spectra, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
-            spectra[m1:] = 0.0                      # the padding (the last inverse left values there)
-            spectra[:m1, m2:] = 0.0
+            spectra, rows_forward, slabs, rows_inverse = self._block_plans(k1 - k0)
+            if self._owner._state != (self, k1 - k0):       # the rows' padding holds another's values
+                spectra[m1:] = 0.0
+            spectra[:m1, m2:] = 0.0                         # the columns' padding (the last inverse left values)
             if not self.direct:
                 spectra[:m1, :m2] = self._lines[..., k0:k1]
             rows_forward()
-            forward()
-            spectral_pass(spectra, k0, k1)
-            inverse()
+            # by columns, each group passed between its transforms; else all transformed, passed, transformed back
+            for group in (slabs if columns else [(None, [t for s in slabs for t in s[1]], [t for s in slabs
+                                                                                         for t in s[2]])]):
+                for transform in group[1]:
+                    transform()
+                if columns:
+                    spectral_pass(spectra, k0, k1, group[0])
+                else:
+                    spectral_pass(spectra, k0, k1)
+                for transform in group[2]:
+                    transform()
+                    if clear:
+                        transform.target[m1:] = 0.0         # (by columns, while in the caches)
+            self._owner._state = (self, k1 - k0) if clear else None
             yield k0, k1, spectra, rows_inverse
 
-    def _apply_to(self, field, spectral_pass, weights_in, weights_out, target):
+    def _apply_to(self, field, spectral_pass, weights_in, weights_out, target, columns):
         """:meth:`apply` with a ``target``: every row back along x2, the target's rows and columns gathered a block at
         a time, then the target's lines back along x3."""
         n1, n2, n3 = self.fft_shape
         t1, t2, t3 = target
         lines = np.empty((6, t1.size, t2.size, self.h), complex)
-        for k0, k1, spectra, _ in self._passes(field, spectral_pass, weights_in):
+        for k0, k1, spectra, _ in self._passes(field, spectral_pass, weights_in, clear=False, columns=columns):
             if (k1 - k0) not in self._all_rows:
                 self._all_rows[k1 - k0] = fft.Transform(spectra, spectra, axes=(1,), inverse=True,
                                                         effort="FFTW_ESTIMATE")
@@ -269,9 +326,10 @@ class BoxFFT:
         work a product must do (the benches' floor)."""
         self._line_forward()
         for k0, k1 in self.blocks:
-            _, rows_forward, forward, inverse, rows_inverse = self._block_plans(k1 - k0)
+            _, rows_forward, slabs, rows_inverse = self._block_plans(k1 - k0)
             rows_forward()
-            forward()
-            inverse()
+            for _, forward, inverse in slabs:
+                for transform in (*forward, *inverse):
+                    transform()
             rows_inverse()
         self._line_inverse()

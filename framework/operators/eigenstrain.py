@@ -30,7 +30,7 @@ import numpy as np
 from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
-from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_groups, loops, stored_kernels
+from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_table, loops, pass_items, stored_kernels
 from .box_fft import BLOCK_BYTES, LEAST_Q3, BoxFFT, buffer_bytes, q3_blocks
 from .box_surface import BoxSurface
 
@@ -447,7 +447,7 @@ def padded_shape(shape):
 
 #: A box of cuboids square in x1, x2 whose padded lattice is this close to square (its larger side over its smaller)
 #: takes the larger side along both: its kernels are then symmetric in q1, q2 (their entries permuted) and half of
-#: them are stored (:func:`~framework.operators._box_loops.kernel_groups`). The rolling bench's 30 x 31 footprint:
+#: them are stored (:func:`~framework.operators._box_loops.kernel_table`). The rolling bench's 30 x 31 footprint:
 #: 60 x 64 -> 64 x 64 points.
 SQUARE_LATTICE_RATIO = 1.1
 
@@ -619,7 +619,8 @@ class HalfSpaceEigenstrain:
         # on a square lattice (box_lattice) the kernels are symmetric in q1, q2 (the entries permuted): half of them
         # stored, half the memory and their traffic in a product (a 64^3 box's pass 3.2 -> 2.1 ms)
         quarter = [n // 2 + 1 for n in self.fft_shape[:2]]
-        self._groups, first, second = kernel_groups(*quarter, self.symmetric)
+        self._table, first, second = kernel_table(*quarter, self.symmetric)
+        self._items = {}                    # the stiffness pass's items, by columns
         full_blocks, self._folded = self._box_spectra(self.spacing if average else None,
                                                       q3_blocks(self.fft_shape, least=LEAST_Q3), fold)
         self._kernel_blocks = {}
@@ -679,7 +680,8 @@ class HalfSpaceEigenstrain:
             shape = self.lattice_shape(lattice)
             effort = "FFTW_MEASURE" if np.prod(shape) <= MEASURED_FFT_POINTS else "FFTW_ESTIMATE"
             share = None if lattice == "padded" else self._box_fft("padded")
-            self._ffts[lattice] = BoxFFT(self.shape, shape, effort=effort, least=LEAST_Q3, share=share)
+            self._ffts[lattice] = BoxFFT(self.shape, shape, effort=effort, least=LEAST_Q3, share=share,
+                                         by_columns=lattice == "padded")
         return self._ffts[lattice]
 
     def transform_bytes(self, lattice="padded"):
@@ -834,7 +836,7 @@ class HalfSpaceEigenstrain:
     def _unpacked(self, kernels):
         """Stored kernels ``(T, 21, b)`` as ``(21, N1/2+1, N2/2+1, b)`` (every ``q1, q2 >= 0``; a copy where half of
         them are stored, else the stored array itself)."""
-        return NumpyLoops.unpacked(kernels, self._groups, PERMUTATION)
+        return NumpyLoops.unpacked(kernels, self._table, PERMUTATION)
 
     def infinite_spectra(self, lattice="padded"):
         """The infinite-space term's kernels: real factors ``(21, N1/2+1, N2/2+1, N3/2+1)`` of ``C : D`` (unit
@@ -866,10 +868,10 @@ class HalfSpaceEigenstrain:
         eigenstrain = self._check(eigenstrain)
         passes = loops()
         stress = self._box_fft().apply(
-            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernel_blocks[k0], self._groups,
-                                                                  PERMUTATION, *self._entries, *self._parities,
-                                                                  MIRROR),
-            MANDEL, 1.0 / MANDEL)
+            eigenstrain, lambda spectra, k0, k1, columns: passes.stiffness(
+                spectra, *self._kernel_blocks[k0], self._pass_items(columns), PERMUTATION, *self._entries,
+                *self._parities, MIRROR),
+            MANDEL, 1.0 / MANDEL, columns=True)
         surface = self._surface
         shared = displacement and surface is self._grid_map()
         spectra = surface.surface(eigenstrain, "traction", *(("betti",) if shared else ()), weights=CONTRACTION)
@@ -882,6 +884,12 @@ class HalfSpaceEigenstrain:
             return strain
         return strain, (self.spacing[2] * surface.field(spectra[1]) if shared
                         else self.surface_displacement(eigenstrain))
+
+    def _pass_items(self, columns):
+        """The stiffness pass's items for the columns ``c0 <= q2 < c1`` (:func:`~framework.operators._box_loops.pass_items`)."""
+        if columns not in self._items:
+            self._items[columns] = pass_items(self._table, range(*columns))
+        return self._items[columns]
 
     def strain_at(self, points, eigenstrain, average=False):
         """Total strain ``(n, 6)`` at arbitrary points ``(n, 3)`` [m] of the half-space, by direct sums.

@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from ._box_loops import PERMUTATION, kernel_groups, loops, stored_kernels
+from ._box_loops import PERMUTATION, kernel_table, loops, pass_items, stored_kernels
 from . import box_fft
 from .box_surface import BoxSurface
 from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, kernel_spectra, surface_traction_kernels)
@@ -123,7 +123,8 @@ class EigenstrainField:
         self._block_bytes = box_fft.BLOCK_BYTES          # the kernels' blocks of q3 and the transforms' the same
         self._kernels = {k0: tuple(stored_kernels(part) for part in block)
                          for k0, block in self._spectra().items()}       # every (q1, q2 >= 0) stored, in order
-        self._groups = kernel_groups(*(n // 2 + 1 for n in self.fft_shape[:2]), False)[0]
+        self._table = kernel_table(*(n // 2 + 1 for n in self.fft_shape[:2]), False)[0]
+        self._items = {}                    # the stiffness pass's items, by columns
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
                                for axis in range(2))
@@ -156,7 +157,7 @@ class EigenstrainField:
     def _transforms(self):
         if self._box_fft is None:
             self._box_fft = box_fft.BoxFFT(self.shape, self.fft_shape, effort="FFTW_ESTIMATE",
-                                           block_bytes=self._block_bytes)
+                                           block_bytes=self._block_bytes, by_columns=True)
         return self._box_fft
 
     def _where(self, start):
@@ -178,10 +179,16 @@ class EigenstrainField:
         target = [(np.arange(size) - s) % n for size, s, n in zip((*grid.shape, grid.layers), (s1, s2, self.start[2]),
                                                                    self.fft_shape)]
         return self._transforms().apply(
-            eigenstrain, lambda spectra, k0, k1: passes.stiffness(spectra, *self._kernels[k0], self._groups,
-                                                                  PERMUTATION, *self._entries, *self._parities,
-                                                                  MIRROR),
-            MANDEL, 1.0 / MANDEL, target=target)
+            eigenstrain, lambda spectra, k0, k1, columns: passes.stiffness(
+                spectra, *self._kernels[k0], self._pass_items(columns), PERMUTATION, *self._entries, *self._parities,
+                MIRROR),
+            MANDEL, 1.0 / MANDEL, target=target, columns=True)
+
+    def _pass_items(self, columns):
+        """The stiffness pass's items for the columns ``c0 <= q2 < c1`` (:func:`~framework.operators._box_loops.pass_items`)."""
+        if columns not in self._items:
+            self._items[columns] = pass_items(self._table, range(*columns))
+        return self._items[columns]
 
     def traction(self, eigenstrain, start=None):
         """The pressure ``2 s33`` ``(n1, n2)`` on the grid's surface (per unit Young's modulus times the
