@@ -125,7 +125,6 @@ class _Loops:
         # the imaginary parts of the second, then the others), K holding (A + Br) / 2, (A - Br) / 2 and Bi / 2:
         # a 128 x 128 x 65 half lattice's pass 24.8 -> 22.3 ms, the static bench's product 1.46-1.51 -> 1.41 its FFTs.
         n1, pitch = rows_memory.shape
-        stored = direct.shape[0]
         values = rows_memory.reshape(-1).view(np.float64)      # real and imaginary parts, interleaved
         kernel, image = direct.reshape(-1), mirror.reshape(-1).view(np.float64)
         half1, half2 = n1 // 2, n2 // 2
