@@ -208,6 +208,7 @@ def test_a_pass_by_columns_gives_the_whole_pass(monkeypatch, block_bytes, column
     passes each group between them: every column passed once, and the result (on the box, or on a target around it)
     that of the whole block's pass, to rounding; in one block of q3 or several, a group of one column or several."""
     monkeypatch.setattr(box_fft_module, "COLUMN_BYTES", column_bytes)     # groups of two columns or of one
+    monkeypatch.setattr(box_fft_module, "COLUMNS_FROM", 0)                # (a block this small is passed whole)
     shape, lattice = (5, 6, 7), (10, 12, 14)
     rng = np.random.default_rng(5)
     field = rng.normal(size=(*shape, 6))
@@ -239,3 +240,31 @@ def test_a_pass_by_columns_gives_the_whole_pass(monkeypatch, block_bytes, column
     assert np.abs(grouped.apply(field, by_columns, columns=True) - expected).max() <= 1e-14 * np.abs(expected).max()
     with pytest.raises(ValueError, match="by_columns"):
         plain.apply(field, by_columns, columns=True)
+
+
+def test_operators_passed_by_columns_give_their_whole_pass(monkeypatch):
+    """The eigenstrain operator and the eigenstrains' field on a grid, their blocks passed by columns (a large box's;
+    forced here on a small one), give the products of the whole blocks' pass to rounding, in one block of q3 and in
+    several, and a block small enough is passed whole."""
+    import framework as fw
+    from framework.operators import eigenstrain, eigenstrain_field
+    grid = fw.Grid(shape=(16, 14), size=(16e-6, 14e-6), depth=12e-6, layers=12)
+    field = np.random.default_rng(4).normal(size=(9, 8, 7, 6))
+    whole = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
+    expected = whole.strain(field)
+    assert not whole._box_fft().by_columns
+    grid_field = eigenstrain_field.EigenstrainField(grid, 0.3, (3, 2, 2), (9, 8, 7))
+    volume = grid_field.volume(field)
+    monkeypatch.setattr(box_fft_module, "COLUMNS_FROM", 0)
+    for block_bytes, block in ((box_fft_module.BLOCK_BYTES, 9), (6 * 18 * 16 * 16 * 2, 2)):
+        monkeypatch.setattr(box_fft_module, "COLUMN_BYTES", 2 * 2 * 18 * 6 * block * 16)      # two columns a group
+        monkeypatch.setattr(box_fft_module, "BLOCK_BYTES", block_bytes)
+        monkeypatch.setattr(eigenstrain, "q3_blocks", lambda shape, least: box_fft_module.q3_blocks(shape, block_bytes))
+        grouped = eigenstrain.HalfSpaceEigenstrain(grid, 0.3, (3, 2, 2), (9, 8, 7))
+        box = grouped._ffts["padded"] = BoxFFT(grouped.shape, grouped.fft_shape, block_bytes=block_bytes,
+                                               by_columns=True)
+        assert box.by_columns and len(box.column_ranges) == 5 and len(box.blocks) == (1 if block_bytes > 1e6 else 5)
+        assert np.abs(grouped.strain(field) - expected).max() <= 1e-14 * np.abs(expected).max()
+        grouped_field = eigenstrain_field.EigenstrainField(grid, 0.3, (3, 2, 2), (9, 8, 7))
+        assert grouped_field._transforms().by_columns
+        assert np.abs(grouped_field.volume(field) - volume).max() <= 1e-14 * np.abs(volume).max()

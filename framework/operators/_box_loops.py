@@ -72,14 +72,18 @@ def kernel_table(q1, q2, symmetric):
     return table, first, second
 
 
-def pass_items(table, columns):
-    """The stiffness pass's items ``(M, 4)`` for the wavenumbers ``i2`` in ``columns`` (each at most ``q2 - 1``) and
-    every ``i1`` of ``q1`` (with their reversals ``-i1``, ``-i2``): rows ``(t, i1, i2, permuted)`` of
-    :func:`kernel_table`'s ``table``, column by column."""
-    columns = np.asarray(list(columns), dtype=np.int64)
-    q1 = table.shape[0]
+def pass_items(table, columns=None):
+    """The stiffness pass's items ``(M, 4)``, rows ``(t, i1, i2, permuted)`` of :func:`kernel_table`'s ``table``, for
+    every ``i1`` of ``q1`` (with their reversals ``-i1``) and the wavenumbers ``i2`` in ``columns`` (each at most
+    ``q2 - 1``, with their reversals), column by column; by default for every ``i2``, ordered by stored kernel (a
+    kernel's two readers one after the other: the second reads it from the caches)."""
+    q1, q2 = table.shape[:2]
+    columns = np.arange(q2) if columns is None else np.asarray(list(columns), dtype=np.int64)
     i1, i2 = np.tile(np.arange(q1), columns.size), np.repeat(columns, q1)
-    return np.ascontiguousarray(np.stack([table[i1, i2, 0], i1, i2, table[i1, i2, 1]], axis=1))
+    items = np.stack([table[i1, i2, 0], i1, i2, table[i1, i2, 1]], axis=1)
+    if columns.size == q2 and np.array_equal(columns, np.arange(q2)):
+        items = items[np.lexsort((items[:, 3], items[:, 0]))]
+    return np.ascontiguousarray(items)
 
 
 def flat_rows(spectra):

@@ -64,6 +64,10 @@ ROW_PAD = 4
 #: (``by_columns``) [bytes]: they stay in the processor's caches between the three, where a whole block went through
 #: the memory three times (the pass 20 -> 12 ns a wavenumber in the caches).
 COLUMN_BYTES = 2 * 2**20
+#: Blocks of at most this many bytes are passed whole even ``by_columns`` (they stay in the caches anyway, and a pass
+#: by columns reads each stored kernel twice, far apart: a 31^3 box's transforms and pass 5.5 against 5.1 ms whole; a
+#: 64^3 box's, 102 MB a block, 68.7 against 75.7 ms).
+COLUMNS_FROM = 32 * 2**20
 
 
 def q3_blocks(fft_shape, block_bytes=BLOCK_BYTES, least=1):
@@ -125,7 +129,8 @@ class BoxFFT:
     by_columns : bool
         Take a block's transforms along x1 a few columns ``q2`` at a time (:data:`COLUMN_BYTES`, with their
         reversals ``-q2``: :attr:`column_ranges` of ``0 .. N2/2``), so that :meth:`apply` may pass each group between
-        its forward and inverse transforms while it is in the caches (``columns=True``).
+        its forward and inverse transforms while it is in the caches (``columns=True``), where a block takes more
+        than :data:`COLUMNS_FROM` (the attribute tells whether it does).
     """
 
     def __init__(self, shape, fft_shape, effort="FFTW_MEASURE", block_bytes=BLOCK_BYTES, least=1, share=None,
@@ -142,8 +147,8 @@ class BoxFFT:
             self._memory = {}
         self._buffers = {}          # a block of q3's spectra, by block size
         self._state = None          # (the BoxFFT, the block size) whose rows q1 >= m1 the memory holds zeroed
-        self.by_columns = bool(by_columns)
         n1, n2 = self.fft_shape[:2]
+        self.by_columns = bool(by_columns) and 16 * n1 * (6 * n2 * self.block + ROW_PAD) > COLUMNS_FROM
         width = max(1, COLUMN_BYTES // (2 * n1 * 6 * self.block * 16))
         self.column_ranges = [(c0, min(n2 // 2 + 1, c0 + width)) for c0 in range(0, n2 // 2 + 1, width)]
         self._all_rows = {}         # every row's inverse along x2, by block size (a target's)

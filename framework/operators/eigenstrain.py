@@ -868,10 +868,10 @@ class HalfSpaceEigenstrain:
         eigenstrain = self._check(eigenstrain)
         passes = loops()
         stress = self._box_fft().apply(
-            eigenstrain, lambda spectra, k0, k1, columns: passes.stiffness(
+            eigenstrain, lambda spectra, k0, k1, columns=None: passes.stiffness(
                 spectra, *self._kernel_blocks[k0], self._pass_items(columns), PERMUTATION, *self._entries,
                 *self._parities, MIRROR),
-            MANDEL, 1.0 / MANDEL, columns=True)
+            MANDEL, 1.0 / MANDEL, columns=self._box_fft().by_columns)
         surface = self._surface
         shared = displacement and surface is self._grid_map()
         spectra = surface.surface(eigenstrain, "traction", *(("betti",) if shared else ()), weights=CONTRACTION)
@@ -886,9 +886,10 @@ class HalfSpaceEigenstrain:
                         else self.surface_displacement(eigenstrain))
 
     def _pass_items(self, columns):
-        """The stiffness pass's items for the columns ``c0 <= q2 < c1`` (:func:`~framework.operators._box_loops.pass_items`)."""
+        """The stiffness pass's items for the columns ``c0 <= q2 < c1``, or all of them (None;
+        :func:`~framework.operators._box_loops.pass_items`)."""
         if columns not in self._items:
-            self._items[columns] = pass_items(self._table, range(*columns))
+            self._items[columns] = pass_items(self._table, None if columns is None else range(*columns))
         return self._items[columns]
 
     def strain_at(self, points, eigenstrain, average=False):

@@ -179,15 +179,16 @@ class EigenstrainField:
         target = [(np.arange(size) - s) % n for size, s, n in zip((*grid.shape, grid.layers), (s1, s2, self.start[2]),
                                                                    self.fft_shape)]
         return self._transforms().apply(
-            eigenstrain, lambda spectra, k0, k1, columns: passes.stiffness(
+            eigenstrain, lambda spectra, k0, k1, columns=None: passes.stiffness(
                 spectra, *self._kernels[k0], self._pass_items(columns), PERMUTATION, *self._entries, *self._parities,
                 MIRROR),
-            MANDEL, 1.0 / MANDEL, target=target, columns=True)
+            MANDEL, 1.0 / MANDEL, target=target, columns=self._transforms().by_columns)
 
     def _pass_items(self, columns):
-        """The stiffness pass's items for the columns ``c0 <= q2 < c1`` (:func:`~framework.operators._box_loops.pass_items`)."""
+        """The stiffness pass's items for the columns ``c0 <= q2 < c1``, or all of them (None;
+        :func:`~framework.operators._box_loops.pass_items`)."""
         if columns not in self._items:
-            self._items[columns] = pass_items(self._table, range(*columns))
+            self._items[columns] = pass_items(self._table, None if columns is None else range(*columns))
         return self._items[columns]
 
     def traction(self, eigenstrain, start=None):
