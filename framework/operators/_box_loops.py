@@ -479,6 +479,15 @@ class NumpyLoops:
 
     @staticmethod
     def stiffness(spectra, direct, mirror, items, permutation, first, second, parity1, parity2, mirror_sign):
+        # a few items at a time (their wavenumbers and the reversals they read are theirs alone): the gathered
+        # kernels take 24 bytes an entry, wavenumber and q3
+        step = max(1, 2**22 // (4 * 21 * 24 * spectra.shape[3]))
+        for start in range(0, len(items), step):
+            NumpyLoops._stiffness_items(spectra, direct, mirror, items[start:start + step], permutation, first,
+                                        second, parity1, parity2, mirror_sign)
+
+    @staticmethod
+    def _stiffness_items(spectra, direct, mirror, items, permutation, first, second, parity1, parity2, mirror_sign):
         n1, n2 = spectra.shape[:2]
         t, i1, i2, permuted = items.T
         # the items' wavenumbers, each once: (i1, i2) and its reversal, (i1, -i2) and its reversal

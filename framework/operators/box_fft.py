@@ -285,6 +285,7 @@ class BoxFFT:
             spectra, rows_forward, slabs, rows_inverse = self._block_plans(k1 - k0)
             if self._owner._state != (self, k1 - k0):       # the rows' padding holds another's values
                 spectra[m1:] = 0.0
+            self._owner._state = None                       # (until this block is through)
             spectra[:m1, m2:] = 0.0                         # the columns' padding (the last inverse left values)
             if not self.direct:
                 spectra[:m1, :m2] = self._lines[..., k0:k1]
