@@ -147,6 +147,7 @@ class BoxFFT:
         if share is None:
             self._memory = {}
         self._buffers = {}          # a block of q3's spectra, by block size
+        self._block_memory = None   # the first block's, which the last one's takes
         self._state = None          # (the BoxFFT, the block size) whose rows q1 >= m1 the memory holds zeroed
         n1, n2 = self.fft_shape[:2]
         self.by_columns = bool(by_columns) and 16 * n1 * (6 * n2 * self.block + ROW_PAD) > COLUMNS_FROM
@@ -187,12 +188,10 @@ class BoxFFT:
         if size not in self._buffers:
             n1, n2 = self.fft_shape[:2]
             pitch = 6 * n2 * size + ROW_PAD
-            if self.block not in self._buffers or size > self.block:
-                memory = self._buffer("block", (n1 * pitch,), complex)
-            else:
-                first = self._buffers[self.block]
-                memory = np.lib.stride_tricks.as_strided(first, shape=(n1 * pitch,), strides=(first.itemsize,))
-            self._buffers[size] = memory[:n1 * pitch].reshape(n1, pitch)[:, :6 * n2 * size].reshape(n1, n2, 6, size)
+            if self._block_memory is None or size > self.block:
+                self._block_memory = self._buffer("block", (n1 * pitch,), complex)
+            memory = self._block_memory[:n1 * pitch]
+            self._buffers[size] = memory.reshape(n1, pitch)[:, :6 * n2 * size].reshape(n1, n2, 6, size)
         return self._buffers[size]
 
     def _plan(self, effort):
@@ -291,15 +290,16 @@ class BoxFFT:
                 spectra[:m1, :m2] = self._lines[..., k0:k1]
             rows_forward()
             # by columns, each group passed between its transforms; else all transformed, passed, transformed back
-            for group in (slabs if columns else [(None, [t for s in slabs for t in s[1]], [t for s in slabs
-                                                                                         for t in s[2]])]):
-                for transform in group[1]:
+            groups = slabs if columns else [(None, [t for _, forward, _ in slabs for t in forward],
+                                             [t for _, _, inverse in slabs for t in inverse])]
+            for group, forward, inverse in groups:
+                for transform in forward:
                     transform()
                 if columns:
-                    spectral_pass(spectra, k0, k1, group[0])
+                    spectral_pass(spectra, k0, k1, group)
                 else:
                     spectral_pass(spectra, k0, k1)
-                for transform in group[2]:
+                for transform in inverse:
                     transform()
                     if clear:
                         transform.target[m1:] = 0.0         # (by columns, while in the caches)
