@@ -24,10 +24,15 @@ time (30 glass spheres' 250 x 250 x 120 lattice, blocks of 21: 45 -> 33 ms a blo
 and x2, batched over ``6 b`` contiguous values instead of ``b``, ran faster too there (31 -> 25 ms along x1). The
 box's lines along x3 are laid out the same way, ``(m1, m2, 6, N3/2 + 1)``, all six components transformed by one
 plan in place (the real values of a line in its spectrum's memory): a block's box rows are a slice of them, copied
-in one run of ``b`` values a line. In one block of ``q3`` (every box up to about 64^3 cuboids) the lines are the
+in one run of ``b`` values a line. In one block of ``q3`` (every box up to about 85^3 cuboids) the lines are the
 block's own box rows, and nothing is copied between the transforms along x3 and x2. The copies between a box field
 ``(m1, m2, m3, 6)`` and the lines read or write a cuboid's six components together (a component at a time, each pass
 wrote every cache line of the field: 4.6 ms of a 64^3 box's product).
+
+Each row ``q1`` of a block is followed by a few numbers of padding (:data:`ROW_PAD`: rows a power of two apart share
+the caches' sets), and a block larger than :data:`COLUMNS_FROM` may be transformed along x1 a column ``q2`` and its
+reversal at a time, passed between its transforms while they are in the caches (``by_columns``; the eigenstrain
+operator's stiffness pass runs on the columns it is given).
 """
 import numpy as np
 
