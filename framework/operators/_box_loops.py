@@ -78,12 +78,27 @@ def pass_items(table, columns=None):
     ``q2 - 1``, with their reversals), column by column; by default for every ``i2``, ordered by stored kernel (a
     kernel's two readers one after the other: the second reads it from the caches)."""
     q1, q2 = table.shape[:2]
-    columns = np.arange(q2) if columns is None else np.asarray(list(columns), dtype=np.int64)
+    every = columns is None
+    columns = np.arange(q2) if every else np.asarray(list(columns), dtype=np.int64)
     i1, i2 = np.tile(np.arange(q1), columns.size), np.repeat(columns, q1)
     items = np.stack([table[i1, i2, 0], i1, i2, table[i1, i2, 1]], axis=1)
-    if columns.size == q2 and np.array_equal(columns, np.arange(q2)):
+    if every:
         items = items[np.lexsort((items[:, 3], items[:, 0]))]
     return np.ascontiguousarray(items)
+
+
+class PassItems:
+    """An operator's stiffness-pass items (:func:`pass_items` of its kernels' ``table``), made at first use and kept:
+    ``items((c0, c1))`` for the columns ``c0 <= q2 < c1`` (a pass by columns,
+    :class:`~framework.operators.box_fft.BoxFFT`), ``items(None)`` for all of them."""
+
+    def __init__(self, table):
+        self.table, self._made = table, {}
+
+    def __call__(self, columns=None):
+        if columns not in self._made:
+            self._made[columns] = pass_items(self.table, None if columns is None else range(*columns))
+        return self._made[columns]
 
 
 def flat_rows(spectra):

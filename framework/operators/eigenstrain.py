@@ -30,7 +30,7 @@ import numpy as np
 from .. import fft
 from ..errors import ParameterError, ShapeError
 from . import parity
-from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, kernel_table, loops, pass_items, stored_kernels
+from ._box_loops import ENTRIES, PERMUTATION, NumpyLoops, PassItems, kernel_table, loops, stored_kernels
 from .box_fft import BLOCK_BYTES, LEAST_Q3, BoxFFT, buffer_bytes, q3_blocks
 from .box_surface import BoxSurface
 
@@ -620,7 +620,7 @@ class HalfSpaceEigenstrain:
         # stored, half the memory and their traffic in a product (a 64^3 box's pass 3.2 -> 2.1 ms)
         quarter = [n // 2 + 1 for n in self.fft_shape[:2]]
         self._table, first, second = kernel_table(*quarter, self.symmetric)
-        self._items = {}                    # the stiffness pass's items, by columns
+        self._items = PassItems(self._table)
         full_blocks, self._folded = self._box_spectra(self.spacing if average else None,
                                                       q3_blocks(self.fft_shape, least=LEAST_Q3), fold)
         self._kernel_blocks = {}
@@ -869,7 +869,7 @@ class HalfSpaceEigenstrain:
         passes = loops()
         stress = self._box_fft().apply(
             eigenstrain, lambda spectra, k0, k1, columns=None: passes.stiffness(
-                spectra, *self._kernel_blocks[k0], self._pass_items(columns), PERMUTATION, *self._entries,
+                spectra, *self._kernel_blocks[k0], self._items(columns), PERMUTATION, *self._entries,
                 *self._parities, MIRROR),
             MANDEL, 1.0 / MANDEL, columns=self._box_fft().by_columns)
         surface = self._surface
@@ -884,13 +884,6 @@ class HalfSpaceEigenstrain:
             return strain
         return strain, (self.spacing[2] * surface.field(spectra[1]) if shared
                         else self.surface_displacement(eigenstrain))
-
-    def _pass_items(self, columns):
-        """The stiffness pass's items for the columns ``c0 <= q2 < c1``, or all of them (None;
-        :func:`~framework.operators._box_loops.pass_items`)."""
-        if columns not in self._items:
-            self._items[columns] = pass_items(self._table, None if columns is None else range(*columns))
-        return self._items[columns]
 
     def strain_at(self, points, eigenstrain, average=False):
         """Total strain ``(n, 6)`` at arbitrary points ``(n, 3)`` [m] of the half-space, by direct sums.

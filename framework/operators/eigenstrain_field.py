@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import fft
 from ..errors import ParameterError, ShapeError
-from ._box_loops import PERMUTATION, kernel_table, loops, pass_items, stored_kernels
+from ._box_loops import PERMUTATION, PassItems, kernel_table, loops, stored_kernels
 from . import box_fft
 from .box_surface import BoxSurface
 from .eigenstrain import (COMPONENTS, ENTRIES, MANDEL, MIRROR, kernel_spectra, surface_traction_kernels)
@@ -124,7 +124,7 @@ class EigenstrainField:
         self._kernels = {k0: tuple(stored_kernels(part) for part in block)
                          for k0, block in self._spectra().items()}       # every (q1, q2 >= 0) stored, in order
         self._table = kernel_table(*(n // 2 + 1 for n in self.fft_shape[:2]), False)[0]
-        self._items = {}                    # the stiffness pass's items, by columns
+        self._items = PassItems(self._table)
         self._entries = (np.array([a for a, _ in ENTRIES]), np.array([b for _, b in ENTRIES]))
         self._parities = tuple(np.array([1.0 - 2 * (COMPONENTS[c].count(axis) % 2) for c in range(6)])
                                for axis in range(2))
@@ -180,16 +180,9 @@ class EigenstrainField:
                                                                    self.fft_shape)]
         return self._transforms().apply(
             eigenstrain, lambda spectra, k0, k1, columns=None: passes.stiffness(
-                spectra, *self._kernels[k0], self._pass_items(columns), PERMUTATION, *self._entries, *self._parities,
+                spectra, *self._kernels[k0], self._items(columns), PERMUTATION, *self._entries, *self._parities,
                 MIRROR),
             MANDEL, 1.0 / MANDEL, target=target, columns=self._transforms().by_columns)
-
-    def _pass_items(self, columns):
-        """The stiffness pass's items for the columns ``c0 <= q2 < c1``, or all of them (None;
-        :func:`~framework.operators._box_loops.pass_items`)."""
-        if columns not in self._items:
-            self._items[columns] = pass_items(self._table, None if columns is None else range(*columns))
-        return self._items[columns]
 
     def traction(self, eigenstrain, start=None):
         """The pressure ``2 s33`` ``(n1, n2)`` on the grid's surface (per unit Young's modulus times the
