@@ -25,7 +25,6 @@ time: the coarse product plus the near sums, ``O(bodies' cuboids x neighbours wi
 The product approximates the fine operator's; :mod:`tests.test_particle_mesh` states by how much.
 """
 import numpy as np
-import scipy.sparse
 
 from .. import _fused
 from ..errors import ParameterError, ShapeError
@@ -111,25 +110,83 @@ class _CoarsePath:
         self.operator = HalfSpaceEigenstrain(grid, poisson, (low[0] - first[0], low[1] - first[1], 0), shape,
                                              average=average, folded=False)
         self.shape = shape
-        self.matrices = {}
-        n = len(self.cells)
-        for name in stencils:
-            nodes = [stencils[name][a][0] - low[a] for a in range(3)]
-            weights = [stencils[name][a][1] for a in range(3)]
-            k = nodes[0].shape[1]
-            flat = ((nodes[0][:, :, None, None] * shape[1] + nodes[1][:, None, :, None]) * shape[2]
-                    + nodes[2][:, None, None, :])
-            values = weights[0][:, :, None, None] * weights[1][:, None, :, None] * weights[2][:, None, None, :]
-            rows = np.repeat(np.arange(n), k ** 3)
-            self.matrices[name] = scipy.sparse.csr_matrix((values.ravel(), (rows, flat.ravel())),
-                                                          shape=(n, int(np.prod(shape))))
+        # per axis: the first node of each cell's stencil and the weights (the stencils are tensor products: 200
+        # bytes a cell for both sets, where a sparse matrix of their 64 products took 1.5 KB)
+        self.first = np.stack([stencils["source"][a][0][:, 0] - low[a] for a in range(3)], axis=1).astype(np.int64)
+        self.weights = {name: np.stack([stencils[name][a][1] for a in range(3)], axis=1) for name in stencils}
         self.volume = 1.0 / COARSE ** 3
 
     def strain(self, eigenstrain):
         """The coarse path's strain ``(n, 6)`` at the cells from their eigenstrain ``(n, 6)``."""
-        coarse = (self.matrices["source"].T @ eigenstrain) * self.volume
-        strain = self.operator.strain(coarse.reshape(*self.shape, 6))
-        return self.matrices["target"] @ strain.reshape(-1, 6)
+        eigenstrain = np.ascontiguousarray(eigenstrain, dtype=float)
+        coarse = np.zeros((*self.shape, 6))
+        compiled = _fused._compiled and _fused.numba_available()
+        (_stencil_loops()["spread"] if compiled else _spread_numpy)(self.first, self.weights["source"],
+                                                                  eigenstrain * self.volume, coarse)
+        strain = self.operator.strain(coarse)
+        out = np.zeros((len(self.first), 6))
+        (_stencil_loops()["gather"] if compiled else _gather_numpy)(self.first, self.weights["target"], strain, out)
+        return out
+
+
+def _stencil_flat(first, shape, a, b, c):
+    return ((first[:, 0] + a) * shape[1] + first[:, 1] + b) * shape[2] + first[:, 2] + c
+
+
+def _spread_numpy(first, weights, values, coarse):
+    """``coarse[nodes of cell] += w1 w2 w3 values[cell]`` (numpy form)."""
+    k = weights.shape[2]
+    flat = coarse.reshape(-1, 6)
+    for a, b, c in np.ndindex(k, k, k):
+        w = weights[:, 0, a] * weights[:, 1, b] * weights[:, 2, c]
+        index = _stencil_flat(first, coarse.shape, a, b, c)
+        for component in range(6):
+            flat[:, component] += np.bincount(index, weights=w * values[:, component], minlength=len(flat))
+
+
+def _gather_numpy(first, weights, coarse, out):
+    """``out[cell] += sum w1 w2 w3 coarse[nodes of cell]`` (numpy form)."""
+    k = weights.shape[2]
+    flat = coarse.reshape(-1, 6)
+    for a, b, c in np.ndindex(k, k, k):
+        w = weights[:, 0, a] * weights[:, 1, b] * weights[:, 2, c]
+        out += w[:, None] * flat[_stencil_flat(first, coarse.shape, a, b, c)]
+
+
+def _spread_loops(first, weights, values, coarse):
+    k = weights.shape[2]
+    for n in range(first.shape[0]):
+        f1, f2, f3 = first[n, 0], first[n, 1], first[n, 2]
+        for a in range(k):
+            for b in range(k):
+                wab = weights[n, 0, a] * weights[n, 1, b]
+                for c in range(k):
+                    w = wab * weights[n, 2, c]
+                    node = coarse[f1 + a, f2 + b, f3 + c]
+                    for component in range(6):
+                        node[component] += w * values[n, component]
+
+
+def _gather_loops(first, weights, coarse, out):
+    k = weights.shape[2]
+    for n in range(first.shape[0]):
+        f1, f2, f3 = first[n, 0], first[n, 1], first[n, 2]
+        for a in range(k):
+            for b in range(k):
+                wab = weights[n, 0, a] * weights[n, 1, b]
+                for c in range(k):
+                    w = wab * weights[n, 2, c]
+                    node = coarse[f1 + a, f2 + b, f3 + c]
+                    for component in range(6):
+                        out[n, component] += w * node[component]
+
+
+def _stencil_loops():
+    """The stencils' spread and gather compiled (numba must be installed)."""
+    if "spread" not in _compiled:
+        jit = _fused._cache["numba"].njit(cache=True, nogil=True, fastmath={"reassoc", "nsz", "nnan", "contract"})
+        _compiled["spread"], _compiled["gather"] = jit(_spread_loops), jit(_gather_loops)
+    return _compiled
 
 
 def ball_offsets(radius):
@@ -361,7 +418,7 @@ class ParticleMeshEigenstrain:
 
     @property
     def nbytes(self):
-        """Memory held [bytes]: tables, stencil matrices, index (the coarse operator's own not counted)."""
-        matrices = sum(m.data.nbytes + m.indices.nbytes + m.indptr.nbytes for m in self.coarse.matrices.values())
+        """Memory held [bytes]: tables, stencils, the near sums' layout (the coarse operator's own not counted)."""
+        stencils = self.coarse.first.nbytes + sum(w.nbytes for w in self.coarse.weights.values())
         layout = sum(a.nbytes for a in (self.index, self.order, self.group, self.flat, self.classes, self.cells))
-        return self.table.nbytes + matrices + layout
+        return self.table.nbytes + stencils + layout
