@@ -9,6 +9,10 @@ peak RSS its own). Prints the machine, then per count:
 
 - bodies, body cuboids, the box (cuboids);
 - the box operator: build, a product (median of 3), peak RSS;
+- with ``--solve``, the equivalent-inclusion system under a uniform strain (1e-3, 0, -1e-3; an elastic matrix, E = 3
+  GPa, nu = 0.35) solved to 1e-7 on the box (``InclusionProblem``, its Fourier preconditioner) and on the bodies
+  (``solve_on_bodies``, each body in its filled cell): products, seconds, peak RSS, the eigenstrains' difference
+  (largest over the largest, rms over rms, and the bodies' means: largest difference over the largest mean);
 - the particle mesh for each ``--near`` radius: build (of which the near tables), a product (median of 3) split
   into the coarse box's product and the near sums, the coarse box's own FFT floor (its six forward and six inverse
   transforms replayed alone), peak RSS, memory per million body cuboids, and its error against the box operator:
@@ -16,7 +20,7 @@ peak RSS its own). Prints the machine, then per count:
   5e-4 shear x1 x2) in every body.
 
     OMP_NUM_THREADS=1 .venv/bin/python bench/particle_mesh.py [--bodies 10 100] [--cells-per-radius 8]
-        [--near 8 10] [--fraction 0.1] [--seed 0]
+        [--near 8 10] [--fraction 0.1] [--seed 0] [--solve]
 """
 import argparse
 import multiprocessing
@@ -32,7 +36,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import framework as fw  # noqa: E402
-from framework import inclusions  # noqa: E402
+from framework import inclusions, materials  # noqa: E402
 from framework.inclusions.field import layout  # noqa: E402
 from framework.operators.eigenstrain import HalfSpaceEigenstrain  # noqa: E402
 from framework.operators.particle_mesh import ParticleMeshEigenstrain  # noqa: E402
@@ -40,6 +44,7 @@ from dispersion import DEPTH, GAP, GLASS, MARGIN, RADIUS, region  # noqa: E402
 from elastic_hertz import machine  # noqa: E402
 
 POISSON = 0.35
+APPLIED = np.diag([1e-3, 0.0, -1e-3])
 
 
 def case(count, cells_per_radius, fraction, seed):
@@ -109,6 +114,43 @@ def mesh_run(args, near, path):
     return out
 
 
+def box_solve(args, path):
+    from framework.inclusions.field import InclusionProblem, strain_vector
+    grid, start, shape, cells = case(*args)
+    bodies = inclusions.random_dispersion(args[2], region(args[0], args[2])[1], RADIUS, GLASS, gap=GAP * RADIUS,
+                                          seed=args[3])
+    begin = time.perf_counter()
+    problem = InclusionProblem(grid, materials.Elastic(3e9, POISSON), bodies, margin=0.0)
+    solution = problem.problem.solve(strain_vector(APPLIED, name="applied strain"), tolerance=1e-7)
+    seconds = time.perf_counter() - begin
+    np.save(os.path.join(path, "solve.npy"), solution.eigenstrain[tuple((cells - np.array(start)).T)])
+    return dict(seconds=seconds, products=problem.problem.products,
+                rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
+
+
+def mesh_solve(args, near, path):
+    from framework.inclusions.dispersed import solve_on_bodies
+    grid, start, shape, cells = case(*args)
+    bodies = inclusions.random_dispersion(args[2], region(args[0], args[2])[1], RADIUS, GLASS, gap=GAP * RADIUS,
+                                          seed=args[3])
+    begin = time.perf_counter()
+    solution = solve_on_bodies(grid, materials.Elastic(3e9, POISSON), bodies, APPLIED, tolerance=1e-7, near=near)
+    seconds = time.perf_counter() - begin
+    reference = np.load(os.path.join(path, "solve.npy"))
+    # the box's cuboids in C order of the box; the bodies' by body: match them
+    order = np.lexsort(tuple(solution.cells.T[::-1]))
+    difference = solution.eigenstrain[order] - reference
+    body = solution.body[order]
+    count = np.bincount(body)
+    means = [np.stack([np.bincount(body, weights=v[:, c]) / count for c in range(6)], axis=1)
+             for v in (difference, reference)]
+    error = dict(largest=np.abs(difference).max() / np.abs(reference).max(),
+                 rms=np.sqrt((difference ** 2).mean() / (reference ** 2).mean()),
+                 means=np.abs(means[0]).max() / np.abs(means[1]).max())
+    return dict(seconds=seconds, products=solution.products, iterations=solution.iterations, error=error,
+                rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
+
+
 def child(function, *args):
     with multiprocessing.get_context("fork").Pool(1) as pool:
         return pool.apply(function, args)
@@ -121,6 +163,7 @@ def main():
     parser.add_argument("--near", type=float, nargs="+", default=[8.0, 10.0], help="near-field radii [cuboids]")
     parser.add_argument("--fraction", type=float, default=0.1, help="volume fraction of the slab")
     parser.add_argument("--seed", type=int, default=0, help="seed of the dispersion")
+    parser.add_argument("--solve", action="store_true", help="also solve the equivalent-inclusion system both ways")
     args = parser.parse_args()
     print(machine())
     print(f"glass spheres, {args.cells_per_radius} cuboids per radius, fraction {args.fraction:.2f}, seed {args.seed}, "
@@ -143,6 +186,17 @@ def main():
                       f"MiB; peak RSS {mesh['rss']:.2f} GiB ({mesh['rss'] / (cells / 1e6):.1f} GiB per million body "
                       f"cuboids); error: random {mesh['random error']:.1e}, uniform {mesh['uniform error']:.1e}",
                       flush=True)
+            if args.solve:
+                solved = child(box_solve, options, path)
+                print(f"  system on the box (Fourier preconditioner), to 1e-7: {solved['products']} products, "
+                      f"{solved['seconds']:.1f} s, peak RSS {solved['rss']:.2f} GiB", flush=True)
+                for near in args.near:
+                    mesh = child(mesh_solve, options, near, path)
+                    print(f"  system on the bodies (particle mesh near {near:g}, body by body), to 1e-7: "
+                          f"{mesh['products']} products ({mesh['iterations']} GMRES iterations), {mesh['seconds']:.1f} s "
+                          f"(its build included), peak RSS {mesh['rss']:.2f} GiB; eigenstrains against the box's: largest "
+                          f"difference {mesh['error']['largest']:.1e} of the largest, rms {mesh['error']['rms']:.1e}, "
+                          f"bodies' means {mesh['error']['means']:.1e}", flush=True)
         print(flush=True)
 
 

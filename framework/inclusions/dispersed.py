@@ -8,18 +8,20 @@ exact near tables) follow the bodies' cuboids. The system is the same (``equival
 
     (C_I - C_M) D[e*] + C_M e* = (C_M - C_I) e0
 
-in Mandel's basis, by GMRES left-preconditioned cuboid by cuboid with ``[(C_I - C_M) S + C_M]^-1`` (``S`` a
-cuboid's own averaged strain). ``D`` is the particle mesh's, whose error against the box operator's is stated in
+in Mandel's basis, by flexible GMRES preconditioned body by body (:class:`BodyPreconditioner`: each body's
+system in its own box taken as a periodic cell filled with it, the box path's Fourier preconditioner with its
+inner solve, :class:`~framework.inclusions.equivalent.EquivalentInclusionProblem`; bodies whose cuboids span the
+same box and share a material share its matrices). ``D`` is the particle mesh's, whose error against the box operator's is stated in
 ``tests/test_particle_mesh.py`` (a few 1e-3 at its default near radius).
 """
 import numpy as np
-import scipy.sparse.linalg
 
 from ..errors import ParameterError
+from ..grid import Grid
 from ..materials import Elastic
-from ..operators.eigenstrain import MANDEL
+from ..operators.eigenstrain import MANDEL, HalfSpaceEigenstrain
 from ..operators.particle_mesh import NEAR, ParticleMeshEigenstrain
-from .equivalent import RESTART, cuboid_self_strain, isotropic_mandel, mandel_matrix
+from .equivalent import RESTART, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix
 
 
 def body_cells(grid, inclusions):
@@ -41,6 +43,86 @@ def body_cells(grid, inclusions):
     return np.concatenate(cells).astype(np.int64), np.concatenate(owners)
 
 
+class BodyPreconditioner:
+    """An approximate inverse of the bodies' system, body by body: each body's own system in its box, solved as the
+    box path solves one body's (the box a periodic cell filled with the body's material, the cell's system on its
+    cuboids to :data:`~framework.inclusions.equivalent.INNER_TOLERANCE`); a nonlinear map (an inner GMRES), for a
+    flexible outer solve. Bodies whose cuboids span boxes of one shape and share a material share the box operator
+    and the cell's matrices."""
+
+    def __init__(self, grid, poisson, cells, body, stiffnesses, young):
+        self.rows = [np.flatnonzero(body == k) for k in range(len(stiffnesses))]
+        self.problems = []
+        operators, cells_matrices = {}, {}
+        for k, rows in enumerate(self.rows):
+            low = cells[rows].min(axis=0)
+            shape = tuple(int(m) for m in cells[rows].max(axis=0) - low + 1)
+            if shape not in operators:
+                # only the infinite-space kernels on the box's periodic cells serve: a grid of the box alone (on the
+                # whole grid each shape's Boussinesq maps reached 4 box depths around it: 100 bodies, 0.5 GiB)
+                spacing = (*grid.spacing, grid.layer_thickness)
+                own = Grid(shape=shape[:2], size=(shape[0] * spacing[0], shape[1] * spacing[1]),
+                           depth=shape[2] * spacing[2], layers=shape[2])
+                operators[shape] = HalfSpaceEigenstrain(own, poisson, (0, 0, 0), shape)
+            indicator = np.zeros(shape, dtype=np.int8)
+            indicator[tuple((cells[rows] - low).T)] = 1
+            problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
+                                                 preconditioner="fourier", recycle=False)
+            key = (shape, stiffnesses[k].tobytes())
+            if key in cells_matrices:                  # the filled cell does not depend on where the cuboids lie
+                problem._fourier = cells_matrices[key]
+            self.problems.append((problem, key))
+        self._shared = cells_matrices
+
+    def __call__(self, values):
+        """The preconditioned values ``(N, 6)`` (Mandel) of values ``(N, 6)`` on the bodies' cuboids."""
+        out = np.empty_like(values)
+        for rows, (problem, key) in zip(self.rows, self.problems):
+            out[rows] = problem._local_solve(values[rows].ravel()).reshape(-1, 6)
+            if key not in self._shared:
+                self._shared[key] = problem._fourier
+            elif problem._fourier is None:
+                problem._fourier = self._shared[key]
+        return out
+
+
+def flexible_gmres(apply, precondition, right, tolerance, max_iterations, restart=RESTART):
+    """Solve ``apply(x) = right`` by flexible GMRES (Saad 1993), right-preconditioned by ``precondition`` (which may
+    change between iterations); the residual is the system's own, ``|right - A x| / |right|``. Returns ``(x,
+    iterations, residual)``."""
+    scale = np.linalg.norm(right)
+    x = np.zeros_like(right)
+    if scale == 0.0:
+        return x, 0, 0.0
+    residual_vector, iterations = right.copy(), 0
+    residual = 1.0
+    while iterations < max_iterations:
+        beta = np.linalg.norm(residual_vector)
+        basis, directions = [residual_vector / beta], []
+        hessenberg = np.zeros((restart + 1, restart))
+        for j in range(restart):
+            directions.append(precondition(basis[j]))
+            w = apply(directions[j])
+            for i, v in enumerate(basis):
+                hessenberg[i, j] = v @ w
+                w = w - hessenberg[i, j] * v
+            hessenberg[j + 1, j] = np.linalg.norm(w)
+            iterations += 1
+            target = np.zeros(j + 2)
+            target[0] = beta
+            weights, *_ = np.linalg.lstsq(hessenberg[:j + 2, :j + 1], target, rcond=None)
+            residual = np.linalg.norm(hessenberg[:j + 2, :j + 1] @ weights - target) / scale
+            if residual <= tolerance or hessenberg[j + 1, j] == 0.0 or iterations >= max_iterations:
+                break
+            basis.append(w / hessenberg[j + 1, j])
+        for weight, direction in zip(weights, directions):
+            x += weight * direction
+        if residual <= tolerance or iterations >= max_iterations:
+            break
+        residual_vector = right - apply(x)
+    return x, iterations, residual
+
+
 class BodiesSolution:
     """Result of :func:`solve_on_bodies`: fields on the bodies' cuboids only.
 
@@ -53,7 +135,7 @@ class BodiesSolution:
     eigenstrain, strain, stress : ndarray ``(n, 6)``
         Equivalent eigenstrain, total strain (tensor shears, Voigt order xx yy zz yz xz xy) and total stress [Pa].
     iterations, residual, success, products
-        GMRES iterations, final relative residual (preconditioned), convergence, operator products.
+        GMRES iterations, final relative residual, convergence, operator products.
     operator : ParticleMeshEigenstrain
     """
 
@@ -64,8 +146,8 @@ class BodiesSolution:
 def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, near=NEAR, max_iterations=300):
     """Inhomogeneities in an elastic half-space under a uniform applied strain, on their cuboids alone.
 
-    As :func:`~framework.inclusions.field.solve_inclusions` (the same system, cuboids and preconditioner), with the
-    particle-mesh operator: memory and time follow the bodies' cuboids, not the box around them.
+    As :func:`~framework.inclusions.field.solve_inclusions` (the same system and cuboids), with the particle-mesh
+    operator: memory and time follow the bodies' cuboids, not the box around them.
 
     Parameters
     ----------
@@ -76,7 +158,7 @@ def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, ne
     applied_strain : array_like
         3x3 strain the matrix would have without the inhomogeneities (uniform).
     tolerance : float
-        Relative residual of the preconditioned GMRES solve.
+        Relative residual of the system (flexible GMRES).
     near : float
         The particle mesh's near radius [cuboids] (its accuracy: ``tests/test_particle_mesh.py``).
     max_iterations : int
@@ -107,8 +189,8 @@ def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, ne
     c_matrix = isotropic_mandel(matrix.young, matrix.poisson)
     c_bodies = np.array([mandel_matrix(b.stiffness_tensor) for b in inclusions])
     contrast = c_bodies - c_matrix                                    # (bodies, 6, 6)
-    own = cuboid_self_strain(operator.spacing, matrix.poisson, average=True)
-    local = np.linalg.inv(contrast @ own + c_matrix)                  # the cuboid-by-cuboid preconditioner
+    preconditioner = BodyPreconditioner(grid, matrix.poisson, cells, body, [b.stiffness_tensor for b in inclusions],
+                                        matrix.young)
     n = len(cells)
     products = [0]
 
@@ -118,22 +200,15 @@ def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, ne
 
     def apply(vector):
         e = vector.reshape(n, 6)
-        out = np.einsum("nab,nb->na", contrast[body], strain_of(e)) + e @ c_matrix.T
-        return np.einsum("nab,nb->na", local[body], out).ravel()
+        return (np.einsum("nab,nb->na", contrast[body], strain_of(e)) + e @ c_matrix.T).ravel()
 
     e0 = np.broadcast_to(applied * MANDEL, (n, 6))
-    rhs = np.einsum("nab,nb->na", local[body], -np.einsum("nab,nb->na", contrast[body], e0)).ravel()
-    system = scipy.sparse.linalg.LinearOperator((6 * n, 6 * n), matvec=apply, dtype=float)
-    residuals = []
-    solution, info = scipy.sparse.linalg.gmres(system, rhs, rtol=tolerance, atol=0.0, restart=RESTART,
-                                               maxiter=max(1, -(-max_iterations // RESTART)),
-                                               callback=residuals.append, callback_type="pr_norm")
+    right = -np.einsum("nab,nb->na", contrast[body], e0).ravel()
+    solution, iterations, residual = flexible_gmres(apply, lambda v: preconditioner(v.reshape(n, 6)).ravel(), right,
+                                                    tolerance, max_iterations)
     eigenstrain = solution.reshape(n, 6)
     strain = e0 + strain_of(eigenstrain)
     stress = np.einsum("nab,nb->na", c_bodies[body], strain) / MANDEL
-    residual = float(np.linalg.norm(apply(solution) - rhs) / np.linalg.norm(rhs))
     return BodiesSolution(cells=cells, body=body, eigenstrain=eigenstrain / MANDEL, strain=strain / MANDEL,
-                          stress=stress, iterations=len(residuals), residual=residual, success=info == 0,
-                          products=products[0], operator=operator)
-
-
+                          stress=stress, iterations=iterations, residual=float(residual),
+                          success=bool(residual <= tolerance), products=products[0], operator=operator)
