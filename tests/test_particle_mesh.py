@@ -209,3 +209,32 @@ def test_solve_on_bodies_checks_its_input():
         solve_on_bodies(grid(), polymer, [body], np.eye(3) * 1e-3, tolerance=0.0)
     with pytest.raises(ParameterError, match="matrix must be"):
         solve_on_bodies(grid(), "polymer", [body], np.eye(3) * 1e-3)
+
+
+def test_a_dispersion_solved_on_its_bodies():
+    """30 glass spheres (radius 4 cuboids) at 10 % in a slab 1-7 radii deep (``bench/particle_mesh.py --bodies 30
+    --cells-per-radius 4``), solved to 1e-8 on the box and on the bodies (near 8). Measured: eigenstrains within
+    6.8e-3 of the largest, rms 2.6e-3, the bodies' means within 7.5e-4 of the largest eigenstrain; 13 flexible GMRES
+    iterations (the box solve's 7); the 30 bodies' cuboids span boxes of 3 shapes, whose filled cells they share."""
+    from framework import inclusions, materials
+    from framework.inclusions.dispersed import BodyPreconditioner, solve_on_bodies
+    radius, cell = 0.1e-3, 0.025e-3
+    side = np.sqrt(30 * 4.0 / 3.0 * np.pi * radius ** 3 / 0.1 / (6 * radius))
+    slab = ((-side / 2, side / 2), (-side / 2, side / 2), (radius, 7 * radius))
+    glass, polymer = materials.Elastic(70e9, 0.22), materials.Elastic(3e9, 0.35)
+    bodies = inclusions.random_dispersion(0.1, slab, radius, glass, gap=0.25 * radius, seed=0)
+    n = int(np.ceil((side + 8 * radius) / cell / 32.0)) * 32
+    wide = fw.Grid(shape=(n, n), size=(n * cell, n * cell), depth=32 * cell, layers=32)
+    applied = np.diag([1e-3, 0.0, -1e-3])
+    box = fw.solve_inclusions(wide, polymer, bodies, applied, tolerance=1e-8)
+    mesh = solve_on_bodies(wide, polymer, bodies, applied, tolerance=1e-8, near=8.0)
+    assert len(bodies) == 30 and mesh.success and mesh.iterations <= 16
+    reference = box.eigenstrain[tuple(mesh.cells.T)]
+    difference = mesh.eigenstrain - reference
+    assert np.abs(difference).max() < 1.2e-2 * np.abs(reference).max()
+    assert np.sqrt((difference ** 2).mean() / (reference ** 2).mean()) < 5e-3
+    means = [np.abs(difference[mesh.body == k].mean(axis=0)).max() for k in range(len(bodies))]
+    assert max(means) < 1.5e-3 * np.abs(reference).max()
+    shared = BodyPreconditioner(wide, polymer.poisson, mesh.cells, mesh.body, [b.stiffness_tensor for b in bodies],
+                                polymer.young)
+    assert len({key for _, key in shared.problems}) <= 6
