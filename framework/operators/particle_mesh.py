@@ -20,6 +20,10 @@ Eastwood 1988; Phillips & White 1997, IEEE TCAD 16(10) 1059):
    since the mirror and Boussinesq terms and the one-sided stencils there depend on depth). The
    tables are made once, by the two operators applied to unit eigenstrains in small boxes.
 
+The surface displacement of the eigenstrains (Betti's theorem, the contact's part of a coupling) takes the same
+two paths: the coarse box's, interpolated to the grid's cells, and near tables for the cells within ``shallow``
+layers of the surface (deeper ones' is smooth there).
+
 Memory: the coarse box (an eighth of the cuboids of the hull box), the stencils and the tables;
 time: the coarse product plus the near sums, ``O(bodies' cuboids x neighbours within NEAR)``.
 The product approximates the fine operator's; :mod:`tests.test_particle_mesh` states by how much.
@@ -58,15 +62,17 @@ def stencil_weights(x, nodes, cumulant):
     return np.linalg.solve(vandermonde, moments)
 
 
-def axis_stencils(indices, origin, order, cumulant, lowest=None):
+def axis_stencils(indices, origin, order, cumulant, lowest=None, highest=None):
     """Coarse nodes ``(n, order + 1)`` and weights of fine cuboids ``indices`` along one axis whose coarse cell
-    ``c`` holds the fine ones ``origin + 2c`` and ``origin + 2c + 1``; nodes at least ``lowest`` where given (one-sided
-    stencils at the surface)."""
+    ``c`` holds the fine ones ``origin + 2c`` and ``origin + 2c + 1``; nodes at least ``lowest`` and at most
+    ``highest`` where given (one-sided stencils at the surface, or at a grid's edge)."""
     indices = np.asarray(indices)
     k = order + 1
     cells = (indices - origin) // COARSE
     x = (indices - origin + 0.5) / COARSE - (cells + 0.5)            # within the coarse cell, coarse units
     first = cells - k // 2 + (x > 0)
+    if highest is not None:
+        first = np.minimum(first, highest - k + 1)
     if lowest is not None:
         first = np.maximum(first, lowest)
     nodes = first[:, None] + np.arange(k)
@@ -110,6 +116,11 @@ class _CoarsePath:
         self.operator = HalfSpaceEigenstrain(grid, poisson, (low[0] - first[0], low[1] - first[1], 0), shape,
                                              average=average, folded=False)
         self.shape = shape
+        # the fine grid's surface cells from the coarse grid's (surface_displacement): averages over a cell, as the
+        # fine operator's are (a fine cell less a coarse one), clamped to the coarse grid at its edges
+        self._surface = [axis_stencils(np.arange(extent[a]), origins[a], order, source_cumulant, lowest=first[a],
+                                       highest=last[a] - 1) for a in range(2)]
+        self._surface = [(nodes - first[a], weights) for a, (nodes, weights) in enumerate(self._surface)]
         # per axis: the first node of each cell's stencil and the weights (the stencils are tensor products: 200
         # bytes a cell for both sets, where a sparse matrix of their 64 products took 1.5 KB)
         self.first = np.stack([stencils["source"][a][0][:, 0] - low[a] for a in range(3)], axis=1).astype(np.int64)
@@ -127,6 +138,21 @@ class _CoarsePath:
         out = np.zeros((len(self.first), 6))
         (_stencil_loops()["gather"] if compiled else _gather_numpy)(self.first, self.weights["target"], strain, out)
         return out
+
+    def surface_displacement(self, eigenstrain):
+        return _surface_displacement(self, eigenstrain)
+
+
+def _surface_displacement(path, eigenstrain):
+    """The coarse path's surface displacement ``(n1, n2)`` over the fine grid: the coarse operator's, interpolated."""
+    coarse = np.zeros((*path.shape, 6))
+    compiled = _fused._compiled and _fused.numba_available()
+    (_stencil_loops()["spread"] if compiled else _spread_numpy)(path.first, path.weights["source"],
+                                                              np.ascontiguousarray(eigenstrain) * path.volume, coarse)
+    field = path.operator.surface_displacement(coarse)
+    (nodes1, weights1), (nodes2, weights2) = path._surface
+    rows = np.einsum("ik,ikj->ij", weights1, field[nodes1])                 # along x1, then x2
+    return np.einsum("jk,ijk->ij", weights2, rows[:, nodes2])
 
 
 def _stencil_flat(first, shape, a, b, c):
@@ -355,6 +381,9 @@ class ParticleMeshEigenstrain:
         offset (target minus source), by both paths in two small boxes: the deep classes' and the shallow ones'."""
         r = int(np.ceil(self.near))
         table = np.zeros((len(self.offsets), self.class_count, 6, 6))
+        # the surface displacement's near tables (the shallow classes'; deeper sources' are smooth at the surface)
+        self.disk = self.offsets[self.offsets[:, 2] == 0, :2]
+        self.surface_table = np.zeros((len(self.disk), self.class_count, 6))
         side = 2 * r + 2
         boxes = [("deep", self.shallow - r, (side, side, side)), ("shallow", 0, (side, side, self.shallow + r + 1))]
         for kind, top, shape in boxes:
@@ -379,10 +408,14 @@ class ParticleMeshEigenstrain:
                 valid = np.flatnonzero(targets[:, 2] >= 0)
                 flat = np.ravel_multi_index(tuple((targets[valid] - start).T), shape)
                 exact_blocks = np.empty((len(valid), 6, 6))
+                exact_surface = np.empty((len(self.disk), 6))
                 for component in range(6):
                     unit = np.zeros((*shape, 6))
                     unit[tuple(centre - start) + (component,)] = 1.0
                     exact_blocks[:, :, component] = exact.strain(unit).reshape(-1, 6)[flat]
+                    if kind == "shallow":
+                        lateral = exact.surface_displacement(unit)
+                        exact_surface[:, component] = lateral[tuple((centre[:2] + self.disk).T)]
                 for p1 in range(COARSE):
                     for p2 in range(COARSE):
                         # the source: parities p1, p2, next to the box's middle
@@ -394,6 +427,9 @@ class ParticleMeshEigenstrain:
                             unit = np.zeros((len(box), 6))
                             unit[np.ravel_multi_index(tuple(source - start), shape), component] = 1.0
                             table[valid, cls, :, component] = exact_blocks[:, :, component] - coarse.strain(unit)[moved]
+                            if kind == "shallow":
+                                lateral = coarse.surface_displacement(unit)[tuple((source[:2] + self.disk).T)]
+                                self.surface_table[:, cls, component] = exact_surface[:, component] - lateral
         return table
 
     def strain(self, eigenstrain):
@@ -402,6 +438,28 @@ class ParticleMeshEigenstrain:
         if eigenstrain.shape != (len(self.cells), 6):
             raise ShapeError(f"eigenstrain has shape {eigenstrain.shape}, the operator has {len(self.cells)} cells")
         return self.coarse.strain(eigenstrain) + self.near_strain(eigenstrain)
+
+    def surface_displacement(self, eigenstrain):
+        """Normal surface displacement ``(n1, n2)`` [m] over the grid, positive into the solid, of the eigenstrain
+        ``(n, 6)`` (tensor shears) on the cells: the coarse box's (Betti's theorem, as
+        :meth:`HalfSpaceEigenstrain.surface_displacement`) interpolated to the grid's cells, and for the cells within
+        :attr:`shallow` layers of the surface the fine operator's own within the near radius (tables)."""
+        eigenstrain = np.asarray(eigenstrain, dtype=float)
+        if eigenstrain.shape != (len(self.cells), 6):
+            raise ShapeError(f"eigenstrain has shape {eigenstrain.shape}, the operator has {len(self.cells)} cells")
+        displacement = self.coarse.surface_displacement(eigenstrain)
+        shallow = np.flatnonzero(self.cells[:, 2] < self.shallow)
+        if shallow.size:
+            n1, n2 = displacement.shape
+            near = np.zeros(n1 * n2)
+            for o, (d1, d2) in enumerate(self.disk):
+                i1, i2 = self.cells[shallow, 0] + d1, self.cells[shallow, 1] + d2
+                inside = (i1 >= 0) & (i1 < n1) & (i2 >= 0) & (i2 < n2)
+                values = np.einsum("nc,nc->n", self.surface_table[o, self.classes[shallow[inside]]],
+                                   eigenstrain[shallow[inside]])
+                near += np.bincount(i1[inside] * n2 + i2[inside], weights=values, minlength=near.size)
+            displacement = displacement + near.reshape(n1, n2)
+        return displacement
 
     def near_strain(self, eigenstrain):
         """The near tables' part ``(n, 6)`` of :meth:`strain` (``exact - coarse`` within the near radius)."""
