@@ -33,7 +33,7 @@ import numpy as np
 from .. import _fused
 from ..errors import ParameterError, ShapeError
 from ..grid import Grid
-from .eigenstrain import PATCH_DEPTHS, HalfSpaceEigenstrain
+from .eigenstrain import CONTRACTION, PATCH_DEPTHS, HalfSpaceEigenstrain
 
 #: Coarse cuboids per fine cuboid along each axis.
 COARSE = 2
@@ -460,6 +460,41 @@ class ParticleMeshEigenstrain:
                 near += np.bincount(i1[inside] * n2 + i2[inside], weights=values, minlength=near.size)
             displacement = displacement + near.reshape(n1, n2)
         return displacement
+
+    def pressure_stress(self, pressure):
+        """Stress ``(n, 6)`` [Pa] at the cells of a surface pressure ``(n1, n2)`` [Pa] on the grid (the homogeneous
+        half-space): the transpose of :meth:`surface_displacement` by Betti's theorem, ``sum p u3 dA = sum s : e* dV``
+        (as :meth:`HalfSpaceEigenstrain.pressure_stress` is of its own), so the coarse box's pressure stress (the
+        pressure gathered onto its surface cells by the interpolation's weights) spread back by the cells' stencils,
+        and the near tables' transposes for the shallow cells."""
+        pressure = np.asarray(pressure, dtype=float)
+        if pressure.shape != tuple(self.grid.shape):
+            raise ShapeError(f"pressure has shape {pressure.shape}, the grid is {tuple(self.grid.shape)}")
+        path = self.coarse
+        (nodes1, weights1), (nodes2, weights2) = path._surface
+        surface = path.operator.grid.shape
+        rows = np.zeros((surface[0], pressure.shape[1]))
+        np.add.at(rows, nodes1.ravel(), (weights1[:, :, None] * pressure[:, None, :]).reshape(-1, pressure.shape[1]))
+        coarse_pressure = np.zeros(surface)
+        np.add.at(coarse_pressure.T, nodes2.ravel(), (weights2[:, :, None] * rows.T[:, None, :]).reshape(-1, surface[0]))
+        stress = path.operator.pressure_stress(coarse_pressure)
+        out = np.zeros((len(self.cells), 6))
+        compiled = _fused._compiled and _fused.numba_available()
+        (_stencil_loops()["gather"] if compiled else _gather_numpy)(path.first, path.weights["source"], stress, out)
+        # sigma = (A / V) W^-1 S^T p, S^T the surface displacement's transpose; through the coarse box (its own Betti
+        # pair, S_c^T q = (V_c / A_c) W sigma_c(q)) the factor is (A / V) (V_c / A_c) times the spread's volume ratio
+        out *= COARSE * path.volume
+        shallow = np.flatnonzero(self.cells[:, 2] < self.shallow)
+        if shallow.size:
+            n1, n2 = pressure.shape
+            near = np.zeros((shallow.size, 6))
+            for o, (d1, d2) in enumerate(self.disk):
+                i1, i2 = self.cells[shallow, 0] + d1, self.cells[shallow, 1] + d2
+                inside = np.flatnonzero((i1 >= 0) & (i1 < n1) & (i2 >= 0) & (i2 < n2))
+                near[inside] += (self.surface_table[o, self.classes[shallow[inside]]]
+                                 * pressure[i1[inside], i2[inside]][:, None])
+            out[shallow] += near / self.spacing[2] / CONTRACTION
+        return out
 
     def near_strain(self, eigenstrain):
         """The near tables' part ``(n, 6)`` of :meth:`strain` (``exact - coarse`` within the near radius)."""
