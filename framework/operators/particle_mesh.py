@@ -77,7 +77,7 @@ def axis_stencils(indices, origin, order, cumulant, lowest=None, highest=None):
         first = np.maximum(first, lowest)
     nodes = first[:, None] + np.arange(k)
     weights = np.empty(nodes.shape)
-    # a few distinct (x, first - cell) pairs: solve each once
+    # a few distinct (x, first - cell) pairs (x = -1/4 or 1/4 with COARSE = 2): solve each once
     keys = np.stack([np.round(x * 4).astype(int), first - cells], axis=-1)
     unique, inverse = np.unique(keys, axis=0, return_inverse=True)
     for u, (quarter, shift) in enumerate(unique):
@@ -127,32 +127,29 @@ class _CoarsePath:
         self.weights = {name: np.stack([stencils[name][a][1] for a in range(3)], axis=1) for name in stencils}
         self.volume = 1.0 / COARSE ** 3
 
-    def strain(self, eigenstrain):
-        """The coarse path's strain ``(n, 6)`` at the cells from their eigenstrain ``(n, 6)``."""
-        eigenstrain = np.ascontiguousarray(eigenstrain, dtype=float)
+    def spread(self, eigenstrain):
+        """The coarse box's eigenstrain ``(M1, M2, M3, 6)`` of the cells' ``(n, 6)`` (the volume ratio included)."""
         coarse = np.zeros((*self.shape, 6))
         compiled = _fused._compiled and _fused.numba_available()
-        (_stencil_loops()["spread"] if compiled else _spread_numpy)(self.first, self.weights["source"],
-                                                                  eigenstrain * self.volume, coarse)
-        strain = self.operator.strain(coarse)
+        (_stencil_loops()["spread"] if compiled else _spread_numpy)(
+            self.first, self.weights["source"], np.ascontiguousarray(eigenstrain, dtype=float) * self.volume, coarse)
+        return coarse
+
+    def strain(self, eigenstrain):
+        """The coarse path's strain ``(n, 6)`` at the cells from their eigenstrain ``(n, 6)``."""
+        strain = self.operator.strain(self.spread(eigenstrain))
         out = np.zeros((len(self.first), 6))
+        compiled = _fused._compiled and _fused.numba_available()
         (_stencil_loops()["gather"] if compiled else _gather_numpy)(self.first, self.weights["target"], strain, out)
         return out
 
     def surface_displacement(self, eigenstrain):
-        return _surface_displacement(self, eigenstrain)
-
-
-def _surface_displacement(path, eigenstrain):
-    """The coarse path's surface displacement ``(n1, n2)`` over the fine grid: the coarse operator's, interpolated."""
-    coarse = np.zeros((*path.shape, 6))
-    compiled = _fused._compiled and _fused.numba_available()
-    (_stencil_loops()["spread"] if compiled else _spread_numpy)(path.first, path.weights["source"],
-                                                              np.ascontiguousarray(eigenstrain) * path.volume, coarse)
-    field = path.operator.surface_displacement(coarse)
-    (nodes1, weights1), (nodes2, weights2) = path._surface
-    rows = np.einsum("ik,ikj->ij", weights1, field[nodes1])                 # along x1, then x2
-    return np.einsum("jk,ijk->ij", weights2, rows[:, nodes2])
+        """The coarse path's surface displacement ``(n1, n2)`` over the fine grid: the coarse operator's,
+        interpolated."""
+        field = self.operator.surface_displacement(self.spread(eigenstrain))
+        (nodes1, weights1), (nodes2, weights2) = self._surface
+        rows = np.einsum("ik,ikj->ij", weights1, field[nodes1])                 # along x1, then x2
+        return np.einsum("jk,ijk->ij", weights2, rows[:, nodes2])
 
 
 def _stencil_flat(first, shape, a, b, c):
