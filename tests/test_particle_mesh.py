@@ -134,9 +134,15 @@ def test_compiled_and_numpy_near_sums_agree(spheres):
     operator = ParticleMeshEigenstrain(grid(), POISSON, cells, near=3.0)
     with _fused.use_compiled(True):
         compiled = operator.strain(cases["random"])
+        compiled_surface = operator.surface_displacement(cases["random"])
+        compiled_stress = operator.pressure_stress(compiled_surface * 1e13)
     with _fused.use_compiled(False):
         plain = operator.strain(cases["random"])
+        plain_surface = operator.surface_displacement(cases["random"])
+        plain_stress = operator.pressure_stress(compiled_surface * 1e13)
     assert np.abs(compiled - plain).max() < 1e-12 * np.abs(plain).max()
+    assert np.abs(compiled_surface - plain_surface).max() < 1e-12 * np.abs(plain_surface).max()
+    assert np.abs(compiled_stress - plain_stress).max() < 1e-12 * np.abs(plain_stress).max()
 
 
 def test_bad_input_is_named():
