@@ -88,9 +88,11 @@ def axis_stencils(indices, origin, order, cumulant, lowest=None, highest=None):
 class _CoarsePath:
     """The far-field path of fine cuboids ``cells`` ``(n, 3)`` (grid indices): spread to a coarse box, its
     half-space operator, interpolated back. ``origin`` ``(o1, o2)``: the fine index where coarse cells start
-    along x1 and x2 (along x3 they start at the surface); ``extent``: the fine grid's surface cells ``(n1, n2)``."""
+    along x1 and x2 (along x3 they start at the surface); ``extent``: the fine grid's surface cells ``(n1, n2)``;
+    ``shifts``: every ``(c1, c2)`` the cells will be moved by (:meth:`shift`), for which the coarse grid covers the
+    fine grid's surface too."""
 
-    def __init__(self, spacing, poisson, cells, origin, extent, order, average):
+    def __init__(self, spacing, poisson, cells, origin, extent, order, average, shifts=((0, 0),)):
         h = np.asarray(spacing, dtype=float)
         self.cells = np.asarray(cells)
         ratio = float(COARSE) ** 2
@@ -108,8 +110,9 @@ class _CoarsePath:
         spacing_c = COARSE * h
         # the coarse grid covers the fine grid's surface (``extent`` cells from index 0), and the box, so that its
         # Boussinesq patch is cut where the fine operator's is
-        first = [min(low[a], -origins[a] // COARSE) for a in range(2)]
-        last = [max(high[a], (extent[a] - 1 - origins[a]) // COARSE + 1) for a in range(2)]
+        shifts = np.asarray(shifts, dtype=int).reshape(-1, 2)
+        first = [min(low[a], int(np.min(-(origins[a] + shifts[:, a]) // COARSE))) for a in range(2)]
+        last = [max(high[a], int(np.max((extent[a] - 1 - origins[a] - shifts[:, a]) // COARSE)) + 1) for a in range(2)]
         surface = [last[a] - first[a] for a in range(2)]
         grid = Grid(shape=tuple(surface), size=tuple(surface[a] * spacing_c[a] for a in range(2)),
                     depth=shape[2] * spacing_c[2], layers=shape[2])
@@ -118,14 +121,28 @@ class _CoarsePath:
         self.shape = shape
         # the fine grid's surface cells from the coarse grid's (surface_displacement): averages over a cell, as the
         # fine operator's are (a fine cell less a coarse one), clamped to the coarse grid at its edges
-        self._surface = [axis_stencils(np.arange(extent[a]), origins[a], order, source_cumulant, lowest=first[a],
-                                       highest=last[a] - 1) for a in range(2)]
-        self._surface = [(nodes - first[a], weights) for a, (nodes, weights) in enumerate(self._surface)]
+        self._mapping = (extent, order, source_cumulant, first, last)
+        self.origin = (int(origins[0]), int(origins[1]))
+        self._surface_stencils()
         # per axis: the first node of each cell's stencil and the weights (the stencils are tensor products: 200
         # bytes a cell for both sets, where a sparse matrix of their 64 products took 1.5 KB)
         self.first = np.stack([stencils["source"][a][0][:, 0] - low[a] for a in range(3)], axis=1).astype(np.int64)
         self.weights = {name: np.stack([stencils[name][a][1] for a in range(3)], axis=1) for name in stencils}
         self.volume = 1.0 / COARSE ** 3
+
+    def _surface_stencils(self):
+        extent, order, cumulant, first, last = self._mapping
+        self._surface = []
+        for a in range(2):
+            nodes, weights = axis_stencils(np.arange(extent[a]), self.origin[a], order, cumulant, lowest=first[a],
+                                           highest=last[a] - 1)
+            self._surface.append((nodes - first[a], weights))
+
+    def shift(self, cells):
+        """The cells moved by ``cells`` ``(c1, c2)`` across the fine grid: the coarse box moves with them (nothing
+        changes relative to them), its surface cells map onto the fine grid's anew."""
+        self.origin = (self.origin[0] + int(cells[0]), self.origin[1] + int(cells[1]))
+        self._surface_stencils()
 
     def spread(self, eigenstrain):
         """The coarse box's eigenstrain ``(M1, M2, M3, 6)`` of the cells' ``(n, 6)`` (the volume ratio included)."""
@@ -297,9 +314,12 @@ class ParticleMeshEigenstrain:
     average : bool
         The Galerkin operator (strain averaged over each target cuboid), as
         :class:`~framework.operators.eigenstrain.HalfSpaceEigenstrain`'s ``average``.
+    shifts : sequence of (int, int), optional
+        Every ``(c1, c2)`` the cells will be moved by from here (:meth:`move`; a rolling run), so that the coarse
+        grid is sized for them once; by default none.
     """
 
-    def __init__(self, grid, poisson, cells, near=NEAR, order=ORDER, average=True):
+    def __init__(self, grid, poisson, cells, near=NEAR, order=ORDER, average=True, shifts=None):
         if any(grid.periodic):
             raise ParameterError(f"the particle-mesh eigenstrain operator needs an open grid, got "
                                  f"periodic={grid.periodic}")
@@ -328,8 +348,10 @@ class ParticleMeshEigenstrain:
         # field, and their targets' stencils are two-sided (one-sided ones reach 2 coarse cells, 4 fine layers, down)
         self.shallow = int(np.ceil(self.near)) + 2 * COARSE
         self.offsets = ball_offsets(self.near)
+        self.shifts = [(0, 0)] if shifts is None else [(int(a), int(b)) for a, b in shifts]
         self.coarse = _CoarsePath(self.spacing, self.poisson, self.cells, self.origin, grid.shape, self.order,
-                                  average)
+                                  average, shifts=self.shifts)
+        self.moved = (0, 0)
         self.classes = self._classes(self.cells)
         self.table = self._table()
         self._pairs(local)
@@ -435,6 +457,25 @@ class ParticleMeshEigenstrain:
         if eigenstrain.shape != (len(self.cells), 6):
             raise ShapeError(f"eigenstrain has shape {eigenstrain.shape}, the operator has {len(self.cells)} cells")
         return self.coarse.strain(eigenstrain) + self.near_strain(eigenstrain)
+
+    def move(self, cells):
+        """Move every cell by ``cells = (c1, c2)`` whole surface cells (the material under a rolling body). Nothing
+        changes relative to the cells (their coarse box and tables move with them); their surface displacement and
+        the pressure stress they feel map onto the grid where they now lie. The total move must be one of
+        ``shifts``."""
+        moved = (self.moved[0] + int(cells[0]), self.moved[1] + int(cells[1]))
+        if moved not in self.shifts:
+            raise ParameterError(f"move: the cells would lie {moved} cells from where they were built, not one of the "
+                                 f"shifts given to the operator ({len(self.shifts)}): give every shift at construction")
+        limits = np.array(self.grid.shape)
+        lateral = self.cells[:, :2] + np.array(cells)
+        if np.any(lateral < 0) or np.any(lateral >= limits):
+            raise ParameterError(f"move: the cells would leave the grid's surface cells 0 .. {tuple(limits - 1)}")
+        self.cells[:, :2] = lateral
+        self.low = self.cells.min(axis=0)
+        self.origin = (self.origin[0] + int(cells[0]), self.origin[1] + int(cells[1]))
+        self.coarse.shift(cells)
+        self.moved = moved
 
     def surface_displacement(self, eigenstrain):
         """Normal surface displacement ``(n1, n2)`` [m] over the grid, positive into the solid, of the eigenstrain
