@@ -406,6 +406,13 @@ class ParticleMeshEigenstrain:
         side = 2 * r + 2
         boxes = [("deep", self.shallow - r, (side, side, side)), ("shallow", 0, (side, side, self.shallow + r + 1))]
         for kind, top, shape in boxes:
+            # the classes the cells hold only (a dispersion below the surface has no cells in its top layers)
+            present = set(np.unique(self.cells[:, 2]).tolist())
+            layers = ([k for k in (self.shallow, self.shallow + 1) if any(l >= self.shallow and (l - k) % 2 == 0
+                                                                           for l in present)]
+                      if kind == "deep" else [k for k in range(self.shallow) if k in present])
+            if not layers:
+                continue
             # a grid wide enough for the fine operator's whole Boussinesq patch
             reach = [int(np.ceil(PATCH_DEPTHS * (top + shape[2]) * self.spacing[2] / self.spacing[a])) for a in range(2)]
             lateral = [shape[a] + 2 * reach[a] for a in range(2)]
@@ -418,7 +425,6 @@ class ParticleMeshEigenstrain:
             # coarse cells start where this operator's do: the same parities
             origin = (start[0] - ((start[0] - self.origin[0]) % COARSE), start[1] - ((start[1] - self.origin[1]) % COARSE))
             coarse = _CoarsePath(self.spacing, self.poisson, box, origin, grid.shape, self.order, self.average)
-            layers = range(self.shallow, self.shallow + 2) if kind == "deep" else range(self.shallow)
             for layer in layers:
                 # the fine operator's response does not depend on where the source lies across (x1, x2): once per
                 # layer and component; the coarse path's does, on the source's parities in the coarse cells
