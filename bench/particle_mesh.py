@@ -183,7 +183,7 @@ def main():
                 print(f"  particle mesh, near {near:g}: build {mesh['build']:.1f} s; product {mesh['random time']:.3f} s "
                       f"= coarse box {c[0]} x {c[1]} x {c[2]} {mesh['coarse']:.3f} s (its FFTs alone "
                       f"{mesh['floor']:.3f} s) + near sums {mesh['near']:.3f} s; tables {mesh['tables'] / 2**20:.0f} "
-                      f"MiB; peak RSS {mesh['rss']:.2f} GiB ({mesh['rss'] / (cells / 1e6):.1f} GiB per million body "
+                      f"MiB (with the stencils and the near sums' layout {mesh['held'] / 2**20:.0f} MiB); peak RSS {mesh['rss']:.2f} GiB ({mesh['rss'] / (cells / 1e6):.1f} GiB per million body "
                       f"cuboids); error: random {mesh['random error']:.1e}, uniform {mesh['uniform error']:.1e}",
                       flush=True)
             if args.solve:

@@ -339,11 +339,11 @@ class ParticleMeshEigenstrain:
         self.spacing = (*grid.spacing, grid.layer_thickness)
         self.near, self.order = float(near), int(order)
         self.cells = cells.astype(np.int64)
-        self.low = self.cells.min(axis=0)
-        local = self.cells - self.low
+        low = self.cells.min(axis=0)
+        local = self.cells - low
         if len(np.unique(np.ravel_multi_index(tuple(local.T), tuple(local.max(axis=0) + 1)))) != len(cells):
             raise ParameterError("cells must be distinct cuboids")
-        self.origin = (int(self.low[0]), int(self.low[1]))
+        self.origin = (int(low[0]), int(low[1]))
         # sources deeper than this keep a class per parity: their mirror image and the surface are beyond the near
         # field, and their targets' stencils are two-sided (one-sided ones reach 2 coarse cells, 4 fine layers, down)
         self.shallow = int(np.ceil(self.near)) + 2 * COARSE
@@ -393,6 +393,7 @@ class ParticleMeshEigenstrain:
 
     @property
     def class_count(self):
+        """Classes of source cuboids: four lateral parities times the shallow layers and the two deeper parities."""
         return COARSE * COARSE * (self.shallow + 2)
 
     def _table(self):
@@ -478,7 +479,6 @@ class ParticleMeshEigenstrain:
         if np.any(lateral < 0) or np.any(lateral >= limits):
             raise ParameterError(f"move: the cells would leave the grid's surface cells 0 .. {tuple(limits - 1)}")
         self.cells[:, :2] = lateral
-        self.low = self.cells.min(axis=0)
         self.origin = (self.origin[0] + int(cells[0]), self.origin[1] + int(cells[1]))
         self.coarse.shift(cells)
         self.moved = moved
