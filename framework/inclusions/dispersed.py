@@ -8,10 +8,11 @@ exact near tables) follow the bodies' cuboids. The system is the same (``equival
 
     (C_I - C_M) D[e*] + C_M e* = (C_M - C_I) e0
 
-in Mandel's basis, by flexible GMRES preconditioned body by body (:class:`BodyPreconditioner`: each body's
-system in its own box taken as a periodic cell filled with it, the box path's Fourier preconditioner with its
-inner solve, :class:`~framework.inclusions.equivalent.EquivalentInclusionProblem`; bodies whose cuboids span the
-same box and share a material share its matrices). ``D`` is the particle mesh's, whose error against the box operator's is stated in
+in Mandel's basis, by the box path's own problem and flexible GMRES
+(:class:`~framework.inclusions.equivalent.EquivalentInclusionProblem`) on a "box" whose cuboids are the bodies'
+(:class:`CellsOperator`), preconditioned body by body (:class:`BodyPreconditioner`: each body's system in its own
+box taken as a periodic cell filled with it, the box path's Fourier preconditioner with its inner solve; bodies
+whose cuboids span the same box and share a material share its matrices). ``D`` is the particle mesh's, whose error against the box operator's is stated in
 ``tests/test_particle_mesh.py`` (a few 1e-3 at its default near radius).
 """
 import numpy as np
@@ -19,9 +20,9 @@ import numpy as np
 from ..errors import ParameterError
 from ..grid import Grid
 from ..materials import Elastic
-from ..operators.eigenstrain import MANDEL, HalfSpaceEigenstrain
+from ..operators.eigenstrain import HalfSpaceEigenstrain
 from ..operators.particle_mesh import NEAR, ParticleMeshEigenstrain
-from .equivalent import RESTART, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix
+from .equivalent import EquivalentInclusionProblem
 
 
 def body_cells(grid, inclusions):
@@ -48,12 +49,12 @@ class BodyPreconditioner:
     box path solves one body's (the box a periodic cell filled with the body's material, the cell's system on its
     cuboids to :data:`~framework.inclusions.equivalent.INNER_TOLERANCE`); a nonlinear map (an inner GMRES), for a
     flexible outer solve. Bodies whose cuboids span boxes of one shape and share a material share the box operator
-    and the cell's matrices."""
+    and the cell's matrices (at one matrix modulus)."""
 
     def __init__(self, grid, poisson, cells, body, stiffnesses, young):
         self.rows = [np.flatnonzero(body == k) for k in range(len(stiffnesses))]
         self.problems = []
-        operators, cells_matrices = {}, {}
+        operators = {}
         for k, rows in enumerate(self.rows):
             low = cells[rows].min(axis=0)
             shape = tuple(int(m) for m in cells[rows].max(axis=0) - low + 1)
@@ -68,59 +69,68 @@ class BodyPreconditioner:
             indicator[tuple((cells[rows] - low).T)] = 1
             problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
                                                  preconditioner="fourier", recycle=False)
-            key = (shape, stiffnesses[k].tobytes())
-            if key in cells_matrices:                  # the filled cell does not depend on where the cuboids lie
-                problem._fourier = cells_matrices[key]
-            self.problems.append((problem, key))
-        self._shared = cells_matrices
+            self.problems.append((problem, (shape, stiffnesses[k].tobytes())))
+        self._cells = {}        # the filled cells made, by (shape, material, modulus): they do not depend on the cuboids
+
+    def set_modulus(self, young):
+        """The matrix's Young's modulus [Pa] (a viscoelastic matrix's of a step)."""
+        for problem, _ in self.problems:
+            problem.set_modulus(young)
 
     def __call__(self, values):
         """The preconditioned values ``(N, 6)`` (Mandel) of values ``(N, 6)`` on the bodies' cuboids."""
         out = np.empty_like(values)
         for rows, (problem, key) in zip(self.rows, self.problems):
+            made = (key, problem.young)
+            if problem._fourier is None and made in self._cells:
+                problem._fourier = self._cells[made]
             out[rows] = problem._local_solve(values[rows].ravel()).reshape(-1, 6)
-            if key not in self._shared:
-                self._shared[key] = problem._fourier
-            elif problem._fourier is None:
-                problem._fourier = self._shared[key]
+            self._cells.setdefault(made, problem._fourier)
         return out
 
 
-def flexible_gmres(apply, precondition, right, tolerance, max_iterations, restart=RESTART):
-    """Solve ``apply(x) = right`` by flexible GMRES (Saad 1993), right-preconditioned by ``precondition`` (which may
-    change between iterations); the residual is the system's own, ``|right - A x| / |right|``. Returns ``(x,
-    iterations, residual)``."""
-    scale = np.linalg.norm(right)
-    x = np.zeros_like(right)
-    if scale == 0.0:
-        return x, 0, 0.0
-    residual_vector, iterations = right.copy(), 0
-    residual = 1.0
-    while iterations < max_iterations:
-        beta = np.linalg.norm(residual_vector)
-        basis, directions = [residual_vector / beta], []
-        hessenberg = np.zeros((restart + 1, restart))
-        for j in range(restart):
-            directions.append(precondition(basis[j]))
-            w = apply(directions[j])
-            for i, v in enumerate(basis):
-                hessenberg[i, j] = v @ w
-                w = w - hessenberg[i, j] * v
-            hessenberg[j + 1, j] = np.linalg.norm(w)
-            iterations += 1
-            target = np.zeros(j + 2)
-            target[0] = beta
-            weights, *_ = np.linalg.lstsq(hessenberg[:j + 2, :j + 1], target, rcond=None)
-            residual = np.linalg.norm(hessenberg[:j + 2, :j + 1] @ weights - target) / scale
-            if residual <= tolerance or hessenberg[j + 1, j] == 0.0 or iterations >= max_iterations:
-                break
-            basis.append(w / hessenberg[j + 1, j])
-        for weight, direction in zip(weights, directions):
-            x += weight * direction
-        if residual <= tolerance or iterations >= max_iterations:
-            break
-        residual_vector = right - apply(x)
-    return x, iterations, residual
+class CellsOperator:
+    """The particle mesh seen as a box whose cuboids are the bodies' (``shape = (N,)``; box fields are ``(N, 6)``), for
+    :class:`~framework.inclusions.equivalent.EquivalentInclusionProblem` and its solver. A cell list has no lattice:
+    the Fourier preconditioner's is never asked for (``BodiesProblem`` solves body by body)."""
+
+    def __init__(self, mesh):
+        self.mesh = mesh
+        self.shape = (len(mesh.cells),)
+        self.own_shape = self.folded_shape = self.fft_shape = self.shape
+        self.spacing, self.poisson, self.average = mesh.spacing, mesh.poisson, mesh.average
+
+    def strain(self, eigenstrain, displacement=False):
+        """Strain ``(N, 6)`` at the cells (and their surface displacement over the grid with ``displacement``)."""
+        strain = self.mesh.strain(eigenstrain)
+        return (strain, self.mesh.surface_displacement(eigenstrain)) if displacement else strain
+
+    def surface_displacement(self, eigenstrain):
+        return self.mesh.surface_displacement(eigenstrain)
+
+    def pressure_stress(self, pressure):
+        return self.mesh.pressure_stress(pressure)
+
+    def move(self, cells):
+        self.mesh.move(cells)
+
+
+class BodiesProblem(EquivalentInclusionProblem):
+    """The equivalent-inclusion system on the bodies' cuboids: the box path's problem and flexible GMRES (with its
+    recycled directions) on :class:`CellsOperator`, preconditioned by :class:`BodyPreconditioner`."""
+
+    def __init__(self, mesh, body, stiffnesses, young, recycle=True):
+        self._bodies = BodyPreconditioner(mesh.grid, mesh.poisson, mesh.cells, body, stiffnesses, young)
+        super().__init__(CellsOperator(mesh), np.asarray(body) + 1, stiffnesses, young, preconditioner="local",
+                         recycle=recycle)
+        self.inner = True       # the preconditioner is a nonlinear map: the solver keeps its directions
+
+    def set_modulus(self, young):
+        super().set_modulus(young)
+        self._bodies.set_modulus(young)
+
+    def _local_solve(self, vector):
+        return self._bodies(np.reshape(vector, (-1, 6))).ravel()
 
 
 class BodiesSolution:
@@ -135,7 +145,7 @@ class BodiesSolution:
     eigenstrain, strain, stress : ndarray ``(n, 6)``
         Equivalent eigenstrain, total strain (tensor shears, Voigt order xx yy zz yz xz xy) and total stress [Pa].
     iterations, residual, success, products
-        GMRES iterations, final relative residual, convergence, operator products.
+        GMRES iterations, final relative residual ``|b - A x| / |b|``, convergence, operator products.
     operator : ParticleMeshEigenstrain
     """
 
@@ -146,8 +156,8 @@ class BodiesSolution:
 def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, near=NEAR, max_iterations=300):
     """Inhomogeneities in an elastic half-space under a uniform applied strain, on their cuboids alone.
 
-    As :func:`~framework.inclusions.field.solve_inclusions` (the same system and cuboids), with the particle-mesh
-    operator: memory and time follow the bodies' cuboids, not the box around them.
+    As :func:`~framework.inclusions.field.solve_inclusions` (the same system, cuboids and solver), with the
+    particle-mesh operator: memory and time follow the bodies' cuboids, not the box around them.
 
     Parameters
     ----------
@@ -158,7 +168,7 @@ def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, ne
     applied_strain : array_like
         3x3 strain the matrix would have without the inhomogeneities (uniform).
     tolerance : float
-        Relative residual of the system (flexible GMRES).
+        Relative residual ``|b - A x| / |b|`` of the system.
     near : float
         The particle mesh's near radius [cuboids] (its accuracy: ``tests/test_particle_mesh.py``).
     max_iterations : int
@@ -185,30 +195,9 @@ def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, ne
     for k in range(len(inclusions)):
         if not np.any(body == k):
             raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
-    operator = ParticleMeshEigenstrain(grid, matrix.poisson, cells, near=near)
-    c_matrix = isotropic_mandel(matrix.young, matrix.poisson)
-    c_bodies = np.array([mandel_matrix(b.stiffness_tensor) for b in inclusions])
-    contrast = c_bodies - c_matrix                                    # (bodies, 6, 6)
-    preconditioner = BodyPreconditioner(grid, matrix.poisson, cells, body, [b.stiffness_tensor for b in inclusions],
-                                        matrix.young)
-    n = len(cells)
-    products = [0]
-
-    def strain_of(e_mandel):                                          # D[e*] in Mandel's basis
-        products[0] += 1
-        return operator.strain(e_mandel / MANDEL) * MANDEL
-
-    def apply(vector):
-        e = vector.reshape(n, 6)
-        return (np.einsum("nab,nb->na", contrast[body], strain_of(e)) + e @ c_matrix.T).ravel()
-
-    e0 = np.broadcast_to(applied * MANDEL, (n, 6))
-    right = -np.einsum("nab,nb->na", contrast[body], e0).ravel()
-    solution, iterations, residual = flexible_gmres(apply, lambda v: preconditioner(v.reshape(n, 6)).ravel(), right,
-                                                    tolerance, max_iterations)
-    eigenstrain = solution.reshape(n, 6)
-    strain = e0 + strain_of(eigenstrain)
-    stress = np.einsum("nab,nb->na", c_bodies[body], strain) / MANDEL
-    return BodiesSolution(cells=cells, body=body, eigenstrain=eigenstrain / MANDEL, strain=strain / MANDEL,
-                          stress=stress, iterations=iterations, residual=float(residual),
-                          success=bool(residual <= tolerance), products=products[0], operator=operator)
+    mesh = ParticleMeshEigenstrain(grid, matrix.poisson, cells, near=near)
+    problem = BodiesProblem(mesh, body, [b.stiffness_tensor for b in inclusions], matrix.young, recycle=False)
+    solution = problem.solve(applied, tolerance=tolerance, max_iterations=max_iterations, raise_on_failure=False)
+    return BodiesSolution(cells=cells, body=body, eigenstrain=solution.eigenstrain, strain=solution.strain,
+                          stress=solution.stress, iterations=solution.iterations, residual=solution.residual,
+                          success=solution.success, products=problem.products, operator=mesh)
