@@ -200,6 +200,7 @@ def test_solve_on_bodies_matches_the_box_solve(glass_in_polymer):
     assert mesh.iterations <= 12 and mesh.products == mesh.iterations      # D[x] carried by the solver
     assert len(mesh.cells) == np.count_nonzero(box.inhomogeneity)
     assert np.array_equal(box.inhomogeneity[tuple(mesh.cells.T)], mesh.body + 1)
+    assert np.array_equal(mesh.cells, np.argwhere(box.inhomogeneity))     # the grid's C order, as the box's
     reference = box.eigenstrain[tuple(mesh.cells.T)]
     scale = np.abs(reference).max()
     assert np.abs(mesh.eigenstrain - reference).max() < 5e-3 * scale

@@ -27,7 +27,8 @@ from .equivalent import EquivalentInclusionProblem
 
 def body_cells(grid, inclusions):
     """The grid's cuboids ``(n, 3)`` whose centre a body holds and the body of each ``(n,)`` (0-based), found in each
-    body's own window of the lattice (by :meth:`InclusionSet.indicator`, the box path's rule), C order per body."""
+    body's own window of the lattice (by :meth:`InclusionSet.indicator`, the box path's rule), in the grid's C order
+    (the order of ``np.nonzero`` of the box path's indicator, in which a run records its bodies' fields)."""
     axes = (grid.x1, grid.x2, grid.x3)
     cells, owners = [], []
     for k, body in enumerate(inclusions):
@@ -41,7 +42,9 @@ def body_cells(grid, inclusions):
         owners.append(np.full(len(inside), k))
     if not cells:
         return np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
-    return np.concatenate(cells).astype(np.int64), np.concatenate(owners)
+    cells, owners = np.concatenate(cells).astype(np.int64), np.concatenate(owners)
+    order = np.lexsort(cells.T[::-1])           # the grid's C order: a box's np.nonzero order, a run's records'
+    return cells[order], owners[order]
 
 
 class BodyPreconditioner:
