@@ -82,8 +82,9 @@ def region(count, fraction):
     return side, ((-side / 2, side / 2), (-side / 2, side / 2), (TOP * RADIUS, TOP * RADIUS + thickness))
 
 
-def setup(count, cells_per_radius, steps, fraction, seed, tolerance=None, with_bodies=True):
-    """The Simulation of one case, its bodies (or None) and its grid; ``tolerance``: the coupling's (None: default)."""
+def setup(count, cells_per_radius, steps, fraction, seed, tolerance=None, with_bodies=True, operator="box"):
+    """The Simulation of one case, its bodies (or None) and its grid; ``tolerance``: the coupling's (None: default);
+    ``operator``: ``Options.inclusion_operator``."""
     cell = RADIUS / cells_per_radius
     side, slab = region(count, fraction)
     ahead = steps * cell / 2                            # the slab's centre: half the roll ahead of the contact
@@ -98,14 +99,15 @@ def setup(count, cells_per_radius, steps, fraction, seed, tolerance=None, with_b
     sim = fw.Simulation(grid=grid, material=matrix(2), indenter=indenters.Sphere(radius=INDENTER),
                         schedule=schedules.Rolling(load=LOAD, velocity=(SPEED, 0.0), distance=steps * cell),
                         inclusions=bodies,
-                        options=None if tolerance is None else run_options.Options(coupling_tolerance=tolerance))
+                        options=run_options.Options(inclusion_operator=operator,
+                                                    **({} if tolerance is None else {"coupling_tolerance": tolerance})))
     return sim, bodies, grid
 
 
-def run(count, cells_per_radius, steps, fraction, seed, tolerance=None, with_bodies=True):
+def run(count, cells_per_radius, steps, fraction, seed, tolerance=None, with_bodies=True, operator="box"):
     """One case, timed; returns plain figures (it runs in a child process)."""
     begin = time.perf_counter()
-    sim, bodies, grid = setup(count, cells_per_radius, steps, fraction, seed, tolerance, with_bodies)
+    sim, bodies, grid = setup(count, cells_per_radius, steps, fraction, seed, tolerance, with_bodies, operator)
     build = time.perf_counter() - begin
     problem = sim._inclusion_problem
     times, products, couplings = [], [], []
@@ -126,8 +128,9 @@ def run(count, cells_per_radius, steps, fraction, seed, tolerance=None, with_bod
                layers=grid.layers, peak=peak, failure=failure,
                rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
     if problem is not None:
-        out.update(bodies=len(bodies), box=tuple(int(m) for m in problem.shape),
-                   cells=int(np.count_nonzero(problem.indicator)))
+        boxed = getattr(problem, "indicator", None) is not None      # the bodies' problem has no box
+        out.update(bodies=len(bodies), box=tuple(int(m) for m in problem.shape) if boxed else (len(problem.body), 1, 1),
+                   cells=int(np.count_nonzero(problem.indicator)) if boxed else len(problem.body))
     return out
 
 

@@ -11,6 +11,8 @@ __all__ = ["DEFAULT_TIME_TOLERANCE", "Options"]
 DEFAULT_TIME_TOLERANCE = 1e-3
 #: The range of ``Options.time_tolerance``: tighter than 1e-8 the contact solver's own tolerance is the error.
 TIME_TOLERANCES = (1e-8, 0.1)
+#: The inhomogeneities' eigenstrain operators (``Options.inclusion_operator``).
+OPERATORS = ("box", "particle_mesh")
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,12 @@ class Options:
         centre it contains) or ``"laminate"`` (also the cuboids its boundary cuts, each
         with the body's share of its volume and a body/matrix laminate's stiffness:
         :mod:`framework.inclusions.subcell`; an elastic matrix only).
+    inclusion_operator : str
+        The eigenstrain operator of the inhomogeneities: ``"box"`` (the box around them, exact) or
+        ``"particle_mesh"`` (their cuboids alone, a coarse box and exact near tables:
+        :class:`~framework.operators.particle_mesh.ParticleMeshEigenstrain`; memory follows the bodies, not
+        the box, at an error of about 1e-3 of the operator: for dispersions of many bodies; staircase
+        geometry only).
     time_tolerance : float or None
         Largest estimated time-stepping error of a material with memory,
         relative to the run's pressure and approach scale, in [1e-8, 0.1]: between two output times the run
@@ -64,6 +72,7 @@ class Options:
     max_couplings: int = None
     time_tolerance: float = DEFAULT_TIME_TOLERANCE
     inclusion_geometry: str = "staircase"
+    inclusion_operator: str = "box"
 
     def __post_init__(self):
         if not isinstance(self.solver, SolverOptions):
@@ -84,6 +93,12 @@ class Options:
         if not isinstance(self.inclusion_geometry, str) or self.inclusion_geometry not in GEOMETRIES:
             raise ParameterError(f"inclusion_geometry must be one of {', '.join(map(repr, GEOMETRIES))}, got "
                                  f"{self.inclusion_geometry!r}")
+        if not isinstance(self.inclusion_operator, str) or self.inclusion_operator not in OPERATORS:
+            raise ParameterError(f"inclusion_operator must be one of {', '.join(map(repr, OPERATORS))}, got "
+                                 f"{self.inclusion_operator!r}")
+        if self.inclusion_operator == "particle_mesh" and self.inclusion_geometry != "staircase":
+            raise ParameterError(f"inclusion_operator = 'particle_mesh' takes whole cuboids only: inclusion_geometry "
+                                 f"must be 'staircase', got {self.inclusion_geometry!r}")
         if self.time_tolerance is not None:
             value = check_real(self.time_tolerance, name="time_tolerance")
             low, high = TIME_TOLERANCES
@@ -104,7 +119,7 @@ class Options:
             raise ParameterError(f"options must be a dict or Options, got {type(value).__name__}")
         solver_keys = set(SolverOptions.__dataclass_fields__)
         run_keys = {"check_edges", "history", "inclusion_margin", "coupling_tolerance", "max_couplings",
-                    "time_tolerance", "inclusion_geometry"}
+                    "time_tolerance", "inclusion_geometry", "inclusion_operator"}
         unknown = set(value) - solver_keys - run_keys
         if unknown:
             raise ParameterError(f"unknown option(s) {sorted(unknown)}; expected some of "

@@ -121,8 +121,13 @@ class Simulation:
             raise ParameterError(f"options.inclusion_geometry = 'laminate' needs an elastic matrix (its cut cuboids mix "
                                  f"the matrix's stiffness with the body's, and a viscoelastic one's relaxes), got "
                                  f"{type(self.material).__name__}; use 'staircase'")
-        self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, geometry=geometry,
-                                                   margin=self.options.inclusion_margin, travel=travel)
+        if self.options.inclusion_operator == "particle_mesh":     # on the bodies' cuboids alone
+            from .inclusions.dispersed import BodiesInclusionProblem
+            self._inclusion_problem = BodiesInclusionProblem(self.grid, self.material, inclusions,
+                                                             margin=self.options.inclusion_margin, travel=travel)
+        else:
+            self._inclusion_problem = InclusionProblem(self.grid, self.material, inclusions, geometry=geometry,
+                                                       margin=self.options.inclusion_margin, travel=travel)
         resolution.check_bodies(self.grid, inclusions, stacklevel=3)    # after the problem's own checks
         return inclusions
 
@@ -390,8 +395,11 @@ class Simulation:
         every = check_positive_int(every, name="every (steps between checkpoints)")
         if checkpoint is not None:
             checkpoint = io.check_target(checkpoint, name="checkpoint")
+        # a result reads its fields on the box (records, stress): the bodies' problem has none, the result makes
+        # the box's operators only where asked (stress_at)
+        boxed = self._inclusion_problem if self.options.inclusion_operator == "box" else None
         self.result = result = Result(self.grid, self.material, self.indenter, self.schedule, self.options,
-                                      inclusions=self.inclusions, inclusion_problem=self._inclusion_problem)
+                                      inclusions=self.inclusions, inclusion_problem=boxed)
         state = None
         if resume is not None:
             state = self._resume(resume, result)

@@ -17,7 +17,7 @@ whose cuboids span the same box and share a material share its matrices). ``D`` 
 """
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import InclusionError, ParameterError
 from ..grid import Grid
 from ..materials import Elastic
 from ..operators.eigenstrain import HalfSpaceEigenstrain
@@ -134,6 +134,51 @@ class BodiesProblem(EquivalentInclusionProblem):
 
     def _local_solve(self, vector):
         return self._bodies(np.reshape(vector, (-1, 6))).ravel()
+
+
+class BodiesInclusionProblem:
+    """The inhomogeneities of a run on their cuboids alone (``Options(inclusion_operator="particle_mesh")``): what
+    :class:`~framework.inclusions.coupling.ContactCoupling` reads of
+    :class:`~framework.inclusions.field.InclusionProblem` (``operator``, ``problem``, ``shape``, ``start``, ``move``),
+    with the particle mesh and :class:`BodiesProblem`. The box of the layout (``margin``) only names where the run's
+    records lie: its ``start`` moves with the material, nothing is built on it.
+
+    ``travel``: the ``(c1, c2)`` moves of a rolling run, one per station (the particle mesh's ``shifts``)."""
+
+    def __init__(self, grid, matrix, inclusions, margin=None, travel=None, near=NEAR):
+        from .field import instantaneous, layout
+        self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
+        cells, self.body = body_cells(grid, inclusions)
+        for k in range(len(inclusions)):
+            if not np.any(self.body == k):
+                raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
+        start, box_shape, _ = layout(grid, inclusions, margin)
+        self._start = np.array(start)
+        shifts = np.cumsum(np.array([(0, 0)] + [tuple(c) for c in (travel or [])], dtype=int), axis=0)
+        limits = np.array(grid.shape)
+        for shift in shifts:
+            moved = cells[:, :2] + shift
+            if np.any(moved < 0) or np.any(moved >= limits):
+                raise InclusionError(f"inclusions: the material carries the inhomogeneities off the grid after a "
+                                     f"move of {tuple(int(c) for c in shift)} cells; expected them to stay on the grid "
+                                     f"for the whole run: lengthen grid.size, shorten the distance or start them "
+                                     f"further ahead")
+        self.mesh = ParticleMeshEigenstrain(grid, matrix.poisson, cells, near=near,
+                                            shifts=[tuple(int(c) for c in shift) for shift in shifts])
+        self.operator = CellsOperator(self.mesh)
+        self.shape = self.operator.shape
+        self.problem = BodiesProblem(self.mesh, self.body, [b.stiffness_tensor for b in inclusions],
+                                     instantaneous(matrix))
+
+    @property
+    def start(self):
+        """First cuboid of the layout's box on the grid (where the material has carried it)."""
+        return tuple(int(c) for c in self._start)
+
+    def move(self, cells):
+        """Move the inhomogeneities with the material by ``cells = (c1, c2)`` whole cells."""
+        self.operator.move(cells)
+        self._start[:2] += np.asarray(cells, dtype=int)
 
 
 class BodiesSolution:
