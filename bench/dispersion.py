@@ -29,6 +29,7 @@ step per cell. Each case runs in a child process (its own peak memory). Prints t
 
     OMP_NUM_THREADS=1 .venv/bin/python bench/dispersion.py [--bodies 10 100 300] [--cells-per-radius 8]
         [--steps 40] [--fraction 0.1] [--seed 0] [--coupling-tolerance 1e-6] [--static] [--no-plain]
+        [--operator particle_mesh]
 
 Measured (README, "Cost of a rolling step over a dispersion"): 10, 30, 60 and 100 bodies at 4 cuboids per radius
 run at the default tolerances, 1.3-13 s a step and 18-22 products; the last version 100 bodies at 4 and 8 cuboids per
@@ -168,6 +169,8 @@ def main():
     parser.add_argument("--static", action="store_true",
                         help="also solve the equivalent-inclusion system alone under a uniform strain (its products)")
     parser.add_argument("--no-plain", action="store_true", help="skip the same run without bodies")
+    parser.add_argument("--operator", choices=("box", "particle_mesh"), default="box",
+                        help="Options.inclusion_operator: the box around the bodies, or their cuboids alone")
     args = parser.parse_args()
     print(machine())
     print(libraries())
@@ -177,7 +180,7 @@ def main():
           f"OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}\n", flush=True)
     for count in args.bodies:
         options = (count, args.cells_per_radius, args.steps, args.fraction, args.seed, args.coupling_tolerance)
-        out = child(*options)
+        out = child(*options, operator=args.operator)
         side = region(count, args.fraction)[0]
         box = out["box"]
         print(f"{out['bodies']} bodies ({out['cells']} cuboids inside them) in a slab {side * 1e3:.2f} x "
