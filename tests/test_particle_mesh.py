@@ -377,3 +377,28 @@ def test_the_operator_option_is_checked():
         Options(inclusion_operator="mesh")
     with pytest.raises(ParameterError, match="inclusion_geometry must be 'staircase'"):
         Options(inclusion_operator="particle_mesh", inclusion_geometry="laminate")
+
+
+def test_a_roll_on_the_bodies_resumes_bit_for_bit(tmp_path, stop_after):
+    """A rolling run over two bodies on their cuboids (``inclusion_operator="particle_mesh"``), stopped after 3 steps
+    and resumed: the bodies where the material had carried them, every record equal to the whole run's."""
+    from framework import indenters, inclusions, materials, schedules
+
+    def simulation():
+        cell = 25e-6
+        wide = fw.Grid(shape=(64, 28), size=(64 * cell, 28 * cell), depth=0.3e-3, layers=12)
+        bodies = [inclusions.Ellipsoid(center=(x, 0.0, 0.12e-3), semi_axes=(0.08e-3,) * 3,
+                                      material=materials.Elastic(70e9, 0.22)) for x in (0.1e-3, 0.3e-3)]
+        return fw.Simulation(grid=wide, material=materials.StandardLinearSolid(e_inf=3e9, e_1=3e9, tau=1e-4,
+                                                                                 poisson=0.35),
+                             indenter=indenters.Sphere(radius=10e-3),
+                             schedule=schedules.Rolling(load=1.0, velocity=(1.0, 0.0), distance=0.125e-3),
+                             inclusions=bodies, options={"inclusion_operator": "particle_mesh"})
+
+    whole = simulation().run()
+    stop_after(simulation(), 3, tmp_path / "c.h5")
+    resumed = simulation().run(resume=tmp_path / "c.h5")
+    assert len(resumed) == len(whole) > 4
+    for a, b in zip(resumed.records, whole.records):
+        assert a.inclusion_start == b.inclusion_start
+        assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.eigenstrain, b.eigenstrain)
