@@ -145,15 +145,15 @@ class BodiesInclusionProblem:
 
     ``travel``: the ``(c1, c2)`` moves of a rolling run, one per station (the particle mesh's ``shifts``)."""
 
-    def __init__(self, grid, matrix, inclusions, margin=None, travel=None, near=NEAR):
-        from .field import instantaneous, layout
+    def __init__(self, grid, matrix, inclusions, margin=None, travel=None, near=NEAR, recycle=True):
+        from .field import box_margin, inclusion_box, instantaneous
         self.grid, self.matrix, self.inclusions = grid, matrix, inclusions
         cells, self.body = body_cells(grid, inclusions)
         for k in range(len(inclusions)):
             if not np.any(self.body == k):
                 raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
-        start, box_shape, _ = layout(grid, inclusions, margin)
-        self._start = np.array(start)
+        # where the records' box starts (no indicator on it: nothing here follows the box)
+        self._start = np.array(inclusion_box(grid, inclusions, box_margin(inclusions, margin))[0])
         shifts = np.cumsum(np.array([(0, 0)] + [tuple(c) for c in (travel or [])], dtype=int), axis=0)
         limits = np.array(grid.shape)
         for shift in shifts:
@@ -168,7 +168,7 @@ class BodiesInclusionProblem:
         self.operator = CellsOperator(self.mesh)
         self.shape = self.operator.shape
         self.problem = BodiesProblem(self.mesh, self.body, [b.stiffness_tensor for b in inclusions],
-                                     instantaneous(matrix))
+                                     instantaneous(matrix), recycle=recycle)
 
     @property
     def start(self):
@@ -239,13 +239,10 @@ def solve_on_bodies(grid, matrix, inclusions, applied_strain, tolerance=1e-8, ne
                              f"got {float(np.max(np.abs(applied))):g}")
     if not (np.isfinite(tolerance) and 0 < tolerance < 1):
         raise ParameterError(f"tolerance must lie in (0, 1), got {tolerance!r}")
-    cells, body = body_cells(grid, inclusions)
-    for k in range(len(inclusions)):
-        if not np.any(body == k):
-            raise ParameterError(f"inclusions[{k}] contains no cuboid centre of the grid: refine the grid")
-    mesh = ParticleMeshEigenstrain(grid, matrix.poisson, cells, near=near)
-    problem = BodiesProblem(mesh, body, [b.stiffness_tensor for b in inclusions], matrix.young, recycle=False)
+    bodies = BodiesInclusionProblem(grid, matrix, inclusions, near=near, recycle=False)
+    problem = bodies.problem
     solution = problem.solve(applied, tolerance=tolerance, max_iterations=max_iterations, raise_on_failure=False)
-    return BodiesSolution(cells=cells, body=body, eigenstrain=solution.eigenstrain, strain=solution.strain,
-                          stress=solution.stress, iterations=solution.iterations, residual=solution.residual,
-                          success=solution.success, products=problem.products, operator=mesh)
+    return BodiesSolution(cells=bodies.mesh.cells, body=bodies.body, eigenstrain=solution.eigenstrain,
+                          strain=solution.strain, stress=solution.stress, iterations=solution.iterations,
+                          residual=solution.residual, success=solution.success, products=problem.products,
+                          operator=bodies.mesh)

@@ -70,10 +70,13 @@ def layout(grid, inclusions, margin=None):
     eigenstrains' stresses are still a sizeable part of the field); the indicator is 0 in the
     matrix and ``k + 1`` in the cuboids of the ``k``-th inhomogeneity.
     """
-    if margin is None:
-        margin = 0.5 * max(max(inclusion.semi_axes) for inclusion in inclusions)
-    start, shape = inclusion_box(grid, inclusions, margin)
+    start, shape = inclusion_box(grid, inclusions, box_margin(inclusions, margin))
     return start, shape, inclusions.indicator(*box_coordinates(grid, start, shape))
+
+
+def box_margin(inclusions, margin=None):
+    """The box's margin [m]: ``margin``, or (None) half the largest semi-axis."""
+    return 0.5 * max(max(inclusion.semi_axes) for inclusion in inclusions) if margin is None else margin
 
 
 def body_cuboids(grid, inclusions, placed, geometry="staircase"):
