@@ -272,6 +272,9 @@ def test_surface_displacement_against_the_box_operator(spheres, mesh8):
         scale = np.abs(reference).max()
         assert np.abs(operator.surface_displacement(values) - reference).max() < 8e-3 * scale, name
         assert np.abs(operator.coarse.surface_displacement(values) - reference).max() > 1e-2 * scale, name
+        strain, surface = operator.strain(values, displacement=True)     # one spread for both (a coupling's product)
+        assert np.allclose(strain, operator.strain(values), rtol=0, atol=1e-12 * np.abs(strain).max())
+        assert np.allclose(surface, operator.surface_displacement(values), rtol=0, atol=1e-12 * scale)
     source = int(np.flatnonzero((cells == np.array([56, 56, 6])).all(axis=1))[0])
     for component in (0, 2, 4):
         values = np.zeros((len(cells), 6))

@@ -105,8 +105,7 @@ class CellsOperator:
 
     def strain(self, eigenstrain, displacement=False):
         """Strain ``(N, 6)`` at the cells (and their surface displacement over the grid with ``displacement``)."""
-        strain = self.mesh.strain(eigenstrain)
-        return (strain, self.mesh.surface_displacement(eigenstrain)) if displacement else strain
+        return self.mesh.strain(eigenstrain, displacement=displacement)
 
     def surface_displacement(self, eigenstrain):
         return self.mesh.surface_displacement(eigenstrain)

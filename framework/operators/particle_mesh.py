@@ -152,18 +152,27 @@ class _CoarsePath:
             self.first, self.weights["source"], np.ascontiguousarray(eigenstrain, dtype=float) * self.volume, coarse)
         return coarse
 
-    def strain(self, eigenstrain):
-        """The coarse path's strain ``(n, 6)`` at the cells from their eigenstrain ``(n, 6)``."""
-        strain = self.operator.strain(self.spread(eigenstrain))
+    def strain(self, eigenstrain, displacement=False):
+        """The coarse path's strain ``(n, 6)`` at the cells from their eigenstrain ``(n, 6)``; with ``displacement``
+        also its surface displacement over the fine grid, from the same spread (and, where the coarse box's surface
+        map is its grid, the same surface transforms: a coupling iteration needs both)."""
+        coarse = self.spread(eigenstrain)
+        if displacement:
+            strain, field = self.operator.strain(coarse, displacement=True)
+        else:
+            strain = self.operator.strain(coarse)
         out = np.zeros((len(self.first), 6))
         compiled = _fused._compiled and _fused.numba_available()
         (_stencil_loops()["gather"] if compiled else _gather_numpy)(self.first, self.weights["target"], strain, out)
-        return out
+        return (out, self._on_grid(field)) if displacement else out
 
     def surface_displacement(self, eigenstrain):
         """The coarse path's surface displacement ``(n1, n2)`` over the fine grid: the coarse operator's,
         interpolated."""
-        field = self.operator.surface_displacement(self.spread(eigenstrain))
+        return self._on_grid(self.operator.surface_displacement(self.spread(eigenstrain)))
+
+    def _on_grid(self, field):
+        """A field ``(N1, N2)`` on the coarse grid's surface cells interpolated to the fine grid's."""
         (nodes1, weights1), (nodes2, weights2) = self._surface
         rows = np.einsum("ik,ikj->ij", weights1, field[nodes1])                 # along x1, then x2
         return np.einsum("jk,ijk->ij", weights2, rows[:, nodes2])
@@ -458,12 +467,21 @@ class ParticleMeshEigenstrain:
                                 self.surface_table[:, cls, component] = exact_surface[:, component] - lateral
         return table
 
-    def strain(self, eigenstrain):
-        """Total strain ``(n, 6)`` (tensor shears) at the cells from their eigenstrain ``(n, 6)``."""
+    def strain(self, eigenstrain, displacement=False):
+        """Total strain ``(n, 6)`` (tensor shears) at the cells from their eigenstrain ``(n, 6)``; with
+        ``displacement``, also its :meth:`surface_displacement`, as ``(strain, displacement)``, from one spread onto
+        the coarse box (a coupling iteration's product)."""
+        eigenstrain = self._check(eigenstrain)
+        if not displacement:
+            return self.coarse.strain(eigenstrain) + self.near_strain(eigenstrain)
+        strain, surface = self.coarse.strain(eigenstrain, displacement=True)
+        return strain + self.near_strain(eigenstrain), surface + self._near_surface(eigenstrain)
+
+    def _check(self, eigenstrain):
         eigenstrain = np.asarray(eigenstrain, dtype=float)
         if eigenstrain.shape != (len(self.cells), 6):
             raise ShapeError(f"eigenstrain has shape {eigenstrain.shape}, the operator has {len(self.cells)} cells")
-        return self.coarse.strain(eigenstrain) + self.near_strain(eigenstrain)
+        return eigenstrain
 
     def move(self, cells):
         """Move every cell by ``cells = (c1, c2)`` whole surface cells (the material under a rolling body). Nothing
@@ -488,22 +506,21 @@ class ParticleMeshEigenstrain:
         ``(n, 6)`` (tensor shears) on the cells: the coarse box's (Betti's theorem, as
         :meth:`HalfSpaceEigenstrain.surface_displacement`) interpolated to the grid's cells, and for the cells within
         :attr:`shallow` layers of the surface the fine operator's own within the near radius (tables)."""
-        eigenstrain = np.asarray(eigenstrain, dtype=float)
-        if eigenstrain.shape != (len(self.cells), 6):
-            raise ShapeError(f"eigenstrain has shape {eigenstrain.shape}, the operator has {len(self.cells)} cells")
-        displacement = self.coarse.surface_displacement(eigenstrain)
+        eigenstrain = self._check(eigenstrain)
+        return self.coarse.surface_displacement(eigenstrain) + self._near_surface(eigenstrain)
+
+    def _near_surface(self, eigenstrain):
+        """The surface tables' part ``(n1, n2)`` of :meth:`surface_displacement` (the shallow cells')."""
+        n1, n2 = self.grid.shape
+        near = np.zeros(n1 * n2)
         shallow = np.flatnonzero(self.cells[:, 2] < self.shallow)
-        if shallow.size:
-            n1, n2 = displacement.shape
-            near = np.zeros(n1 * n2)
-            for o, (d1, d2) in enumerate(self.disk):
-                i1, i2 = self.cells[shallow, 0] + d1, self.cells[shallow, 1] + d2
-                inside = (i1 >= 0) & (i1 < n1) & (i2 >= 0) & (i2 < n2)
-                values = np.einsum("nc,nc->n", self.surface_table[o, self.classes[shallow[inside]]],
-                                   eigenstrain[shallow[inside]])
-                near += np.bincount(i1[inside] * n2 + i2[inside], weights=values, minlength=near.size)
-            displacement = displacement + near.reshape(n1, n2)
-        return displacement
+        for o, (d1, d2) in enumerate(self.disk if shallow.size else ()):
+            i1, i2 = self.cells[shallow, 0] + d1, self.cells[shallow, 1] + d2
+            inside = (i1 >= 0) & (i1 < n1) & (i2 >= 0) & (i2 < n2)
+            values = np.einsum("nc,nc->n", self.surface_table[o, self.classes[shallow[inside]]],
+                               eigenstrain[shallow[inside]])
+            near += np.bincount(i1[inside] * n2 + i2[inside], weights=values, minlength=near.size)
+        return near.reshape(n1, n2)
 
     def pressure_stress(self, pressure):
         """Stress ``(n, 6)`` [Pa] at the cells of a surface pressure ``(n1, n2)`` [Pa] on the grid (the homogeneous
@@ -542,6 +559,7 @@ class ParticleMeshEigenstrain:
 
     def near_strain(self, eigenstrain):
         """The near tables' part ``(n, 6)`` of :meth:`strain` (``exact - coarse`` within the near radius)."""
+        eigenstrain = self._check(eigenstrain)
         source = np.zeros((len(self.cells) + 1, 8))          # rows padded to a cache line; the last the sentinel
         source[:-1, :6] = eigenstrain
         near = np.zeros((6, len(self.cells)))
