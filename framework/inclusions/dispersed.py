@@ -24,6 +24,17 @@ from ..operators.eigenstrain import HalfSpaceEigenstrain
 from ..operators.particle_mesh import NEAR, ParticleMeshEigenstrain
 from .equivalent import EquivalentInclusionProblem
 
+#: The relative residual to which each body's system in its filled cell is solved, and its inner iterations at most.
+#: The coupling's Anderson mixing takes the preconditioner for a linear map (its residuals' differences for the
+#: operator's): an inner GMRES stopped early is not one. At the box path's
+#: :data:`~framework.inclusions.equivalent.INNER_TOLERANCE` (0.1) the first roll step over 30 and 100 glass spheres at
+#: 8 cuboids per radius (bench/dispersion.py) stalled at an equivalent-inclusion residual of 2e-4 in 100 couplings,
+#: though the same system alone (its pressure frozen) took 22 flexible-GMRES products to 1e-7; at 3e-2 / 1e-2 / 1e-3
+#: the 30 spheres' steps took 11 / 11 / 11 products (the rest step 13) and 9.5 / 10.9 / 12.4 s, the 100 spheres' 11-15
+#: at 1e-2. 1e-2 keeps a margin of ten below the stall.
+BODY_TOLERANCE = 1e-2
+BODY_ITERATIONS = 40
+
 
 def body_cells(grid, inclusions):
     """The grid's cuboids ``(n, 3)`` whose centre a body holds and the body of each ``(n,)`` (0-based), found in each
@@ -50,8 +61,8 @@ def body_cells(grid, inclusions):
 class BodyPreconditioner:
     """An approximate inverse of the bodies' system, body by body: each body's own system in its box, solved as the
     box path solves one body's (the box a periodic cell filled with the body's material, the cell's system on its
-    cuboids to :data:`~framework.inclusions.equivalent.INNER_TOLERANCE`); a nonlinear map (an inner GMRES), for a
-    flexible outer solve. Bodies whose cuboids span boxes of one shape and share a material share the box operator
+    cuboids to :data:`BODY_TOLERANCE`): a nonlinear map (an inner GMRES), for a flexible outer solve, close enough to
+    a linear one for the coupling's Anderson mixing. Bodies whose cuboids span boxes of one shape and share a material share the box operator
     and the cell's matrices (at one matrix modulus)."""
 
     def __init__(self, grid, poisson, cells, body, stiffnesses, young):
@@ -72,6 +83,7 @@ class BodyPreconditioner:
             indicator[tuple((cells[rows] - low).T)] = 1
             problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
                                                  preconditioner="fourier", recycle=False)
+            problem.inner_tolerance, problem.inner_iterations = BODY_TOLERANCE, BODY_ITERATIONS
             self.problems.append((problem, (shape, stiffnesses[k].tobytes())))
         self._cells = {}        # the filled cells made, by (shape, material, modulus): they do not depend on the cuboids
 

@@ -465,6 +465,8 @@ class EquivalentInclusionProblem:
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
         self._field = None          # the preconditioner's box field
+        # the inner solve's tolerance and iterations at most (None: INNER_TOLERANCE and INNER_ITERATIONS)
+        self.inner_tolerance = self.inner_iterations = None
         self.recycled = RecycledSpace(6 * self.material.size)
         self.recycle = recycle
         self.products = 0           # eigenstrain-operator products so far
@@ -703,10 +705,10 @@ class EquivalentInclusionProblem:
 
     def _inner_solve(self, values):
         """The bodies' system in the filled periodic cell, ``P F P x = v`` (``F`` the cell's operator filled with the
-        bodies' material, ``P`` the inhomogeneities' cuboids), solved to :data:`INNER_TOLERANCE` by GMRES
-        preconditioned by the cell's inverse (filled with a dispersion's share of the contrast,
-        :data:`DISPERSION_CONTRAST`), :data:`INNER_ITERATIONS` at most (fewer where their vectors would take
-        more than :data:`INNER_BYTES`).
+        bodies' material, ``P`` the inhomogeneities' cuboids), solved to :data:`INNER_TOLERANCE` (or the problem's
+        ``inner_tolerance``) by GMRES preconditioned by the cell's inverse (filled with a dispersion's share of the
+        contrast, :data:`DISPERSION_CONTRAST`), :data:`INNER_ITERATIONS` (or ``inner_iterations``) at most (fewer
+        where their vectors would take more than :data:`INNER_BYTES`).
 
         The cell's inverse alone is exact for a plane wave but not for a smooth field confined to a stiff body (the
         average over directions of the inverse where the body needs the inverse of the average: eigenvalues of
@@ -719,7 +721,9 @@ class EquivalentInclusionProblem:
         scale = np.linalg.norm(right)
         if scale == 0.0:
             return np.zeros_like(right)
-        size = max(1, min(INNER_ITERATIONS, INNER_BYTES // (16 * right.size)))
+        tolerance = INNER_TOLERANCE if self.inner_tolerance is None else self.inner_tolerance
+        iterations = INNER_ITERATIONS if self.inner_iterations is None else self.inner_iterations
+        size = max(1, min(iterations, INNER_BYTES // (16 * right.size)))
         basis, directions = [right / scale], []
         hessenberg = np.zeros((size + 1, size))
         target = np.zeros(size + 1)
@@ -733,7 +737,7 @@ class EquivalentInclusionProblem:
             hessenberg[j + 1, j] = np.linalg.norm(w)
             weights, *_ = np.linalg.lstsq(hessenberg[:j + 2, :j + 1], target[:j + 2], rcond=None)
             rest = np.linalg.norm(hessenberg[:j + 2, :j + 1] @ weights - target[:j + 2])
-            if rest <= INNER_TOLERANCE * scale or hessenberg[j + 1, j] == 0.0:
+            if rest <= tolerance * scale or hessenberg[j + 1, j] == 0.0:
                 break
             basis.append(w / hessenberg[j + 1, j])
         out = np.zeros_like(right)
