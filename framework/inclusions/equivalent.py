@@ -427,11 +427,16 @@ class EquivalentInclusionProblem:
         within a solve, across its restarts (a hard one needs them: a sphere 1e6 times stiffer than its
         matrix stalled without), and not its last cycle's (at 64^3 keeping a one-cycle solve's 11
         directions took 1 s of 8).
+    lattice : str, optional
+        The Fourier preconditioner's periodic cell (``"own"``, ``"folded"``, ``"padded"``); None: chosen by
+        :func:`periodic_cell`.
     """
 
-    def __init__(self, operator, indicator, stiffnesses, young, preconditioner="auto", recycle=True):
+    def __init__(self, operator, indicator, stiffnesses, young, preconditioner="auto", recycle=True, lattice=None):
         if preconditioner not in ("auto", "fourier", "local"):
             raise ParameterError(f"preconditioner must be 'auto', 'fourier' or 'local', got {preconditioner!r}")
+        if lattice not in (None, "own", "folded", "padded"):
+            raise ParameterError(f"lattice must be None, 'own', 'folded' or 'padded', got {lattice!r}")
         indicator = np.asarray(indicator)
         if indicator.shape != operator.shape:
             raise ShapeError(f"indicator has shape {indicator.shape}, the operator's box is {operator.shape}")
@@ -446,6 +451,8 @@ class EquivalentInclusionProblem:
         self._lattice = periodic_cell(operator.own_shape, self.cells)
         if self._lattice == "folded" and np.prod(operator.folded_shape) >= np.prod(operator.fft_shape):
             self._lattice = "padded"
+        if lattice is not None:
+            self._lattice = lattice
         if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
             same = all(np.abs(c - self.stiffness[0]).max() <= 1e-12 * np.abs(self.stiffness[0]).max()
                        for c in self.stiffness)
