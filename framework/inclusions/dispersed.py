@@ -70,13 +70,13 @@ class BodyPreconditioner:
     """An approximate inverse of the bodies' system, body by body: each body's own system in its box, solved as the
     box path solves one body's (the box a periodic cell filled with the body's material, the cell's system on its
     cuboids to :data:`BODY_TOLERANCE`): a nonlinear map (an inner GMRES), for a flexible outer solve, close enough to
-    a linear one for the coupling's Anderson mixing. Bodies whose cuboids span boxes of one shape and share a material share the box operator
-    and the cell's matrices (at one matrix modulus)."""
+    a linear one for the coupling's Anderson mixing. Bodies whose cuboids span boxes of one shape and share a
+    material share the box operator and the cell's matrices (at one matrix modulus)."""
 
     def __init__(self, grid, poisson, cells, body, stiffnesses, young):
         self.rows = [np.flatnonzero(body == k) for k in range(len(stiffnesses))]
         self.problems = []
-        operators = {}
+        operators, shared = {}, {}
         for k, rows in enumerate(self.rows):
             low = cells[rows].min(axis=0)
             shape = tuple(int(m) for m in cells[rows].max(axis=0) - low + 1)
@@ -89,12 +89,12 @@ class BodyPreconditioner:
                 operators[shape] = HalfSpaceEigenstrain(own, poisson, (0, 0, 0), shape)
             indicator = np.zeros(shape, dtype=np.int8)
             indicator[tuple((cells[rows] - low).T)] = 1
+            key = (shape, stiffnesses[k].tobytes())
             problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
-                                                 preconditioner="fourier", recycle=False,
-                                                 lattice=LATTICE)
+                                                 preconditioner="fourier", recycle=False, lattice=LATTICE,
+                                                 shared=shared.setdefault(key, {}))
             problem.inner_tolerance, problem.inner_iterations = BODY_TOLERANCE, BODY_ITERATIONS
-            self.problems.append((problem, (shape, stiffnesses[k].tobytes())))
-        self._cells = {}        # the filled cells made, by (shape, material, modulus): they do not depend on the cuboids
+            self.problems.append((problem, key))
 
     def set_modulus(self, young):
         """The matrix's Young's modulus [Pa] (a viscoelastic matrix's of a step)."""
@@ -104,12 +104,8 @@ class BodyPreconditioner:
     def __call__(self, values):
         """The preconditioned values ``(N, 6)`` (Mandel) of values ``(N, 6)`` on the bodies' cuboids."""
         out = np.empty_like(values)
-        for rows, (problem, key) in zip(self.rows, self.problems):
-            made = (key, problem.young)
-            if problem._fourier is None and made in self._cells:
-                problem._fourier = self._cells[made]
-            out[rows] = problem._local_solve(values[rows].ravel()).reshape(-1, 6)
-            self._cells.setdefault(made, problem._fourier)
+        for rows, (problem, _) in zip(self.rows, self.problems):
+            out[rows] = problem.precondition(values[rows])
         return out
 
 

@@ -430,9 +430,13 @@ class EquivalentInclusionProblem:
     lattice : str, optional
         The Fourier preconditioner's periodic cell (``"own"``, ``"folded"``, ``"padded"``); None: chosen by
         :func:`periodic_cell`.
+    shared : dict, optional
+        The Fourier preconditioner made at the latest matrix modulus, shared with the problems of bodies that fill
+        boxes of the same operator, lattice and material (a dispersion's bodies, each its own problem): made once.
     """
 
-    def __init__(self, operator, indicator, stiffnesses, young, preconditioner="auto", recycle=True, lattice=None):
+    def __init__(self, operator, indicator, stiffnesses, young, preconditioner="auto", recycle=True, lattice=None,
+                 shared=None):
         if preconditioner not in ("auto", "fourier", "local"):
             raise ParameterError(f"preconditioner must be 'auto', 'fourier' or 'local', got {preconditioner!r}")
         if lattice not in (None, "own", "folded", "padded"):
@@ -471,6 +475,7 @@ class EquivalentInclusionProblem:
                           and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
+        self._shared = shared       # (the latest modulus's only: the problems sharing it share their modulus)
         self._field = None          # the preconditioner's box field
         # the inner solve's tolerance and iterations at most (None: INNER_TOLERANCE and INNER_ITERATIONS)
         self.inner_tolerance = self.inner_iterations = None
@@ -688,15 +693,26 @@ class EquivalentInclusionProblem:
                 beta = np.linalg.norm(residual)
         return values, disturbance, iterations, float(beta / scale)
 
+    def precondition(self, values):
+        """The preconditioner without the recycled directions on values ``(N, 6)`` (Mandel) on the cuboids: the Fourier
+        one (with its inner solve), or each cuboid solved alone; ``(N, 6)``."""
+        return self._local_solve(np.ravel(values)).reshape(-1, 6)
+
     def _local_solve(self, vector):
         """The preconditioner without deflation: the Fourier one, or each cuboid solved alone."""
         values = vector.reshape(-1, 6)
         if self.preconditioner == "local":
             return self.per_material(self._preconditioner, values).ravel()
         if self._fourier is None or (self.inner and self._fourier[1].forward is None):  # (its modulus, itself)
-            self._fourier = (self.young, FourierPreconditioner(self.operator, self._share * self.contrast[0],
-                                                               self.matrix, lattice=self._lattice,
-                                                               forward=self.contrast[0] if self.inner else None))
+            made = None if self._shared is None else self._shared.get(self.young)
+            if made is None or (self.inner and made[1].forward is None):
+                made = (self.young, FourierPreconditioner(self.operator, self._share * self.contrast[0], self.matrix,
+                                                          lattice=self._lattice,
+                                                          forward=self.contrast[0] if self.inner else None))
+                if self._shared is not None:
+                    self._shared.clear()
+                    self._shared[self.young] = made
+            self._fourier = made
         if self.inner:
             return self._inner_solve(values)
         return self._filled(values)
