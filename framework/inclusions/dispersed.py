@@ -34,8 +34,8 @@ from .equivalent import EquivalentInclusionProblem
 #: at 1e-2. 1e-2 keeps a margin of ten below the stall.
 BODY_TOLERANCE = 1e-2
 BODY_ITERATIONS = 40
-#: Each body's periodic cell: the padded lattice, twice its box (the box path's choice for a body filling its box is
-#: the box grown by a gap, "folded"). Folded, the kernels' nearest images are summed for some offsets and not for
+#: Each body's periodic cell: the padded lattice, twice its box (as the box path's for a body filling its box whose
+#: cell's system is solved, :data:`~framework.inclusions.equivalent.FOLDED_INNER`). Folded, the kernels' nearest images are summed for some offsets and not for
 #: others, and a sphere of radius 8 cuboids in its 16^3 box on the 24^3 lattice had eigenvalues near -5.2 in its
 #: inner system (Arnoldi's Ritz values; [1, 27] at radius 7.4 in a 15 x 14 x 15 box); padded, [1, 6.2] and [1, 6.0]
 #: (the box's own lattice, images touching: [1, 7.2], but 32 products a roll step where the padded one takes 10-11).

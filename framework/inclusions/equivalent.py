@@ -98,6 +98,16 @@ INNER_BYTES = 256 * 2**20
 OWN_LATTICE_GAP = 6
 
 
+#: Whether the inner solve may iterate on the folded lattice (a box its bodies fill): no, on the padded one: the folded
+#: kernels sum the nearest image for some offsets and not for others, and the cell's system there can be indefinite
+#: (a glass sphere of radius 8 cuboids in its 16^3 box on the 24^3 lattice: Ritz values down to -5.2; on 32^3 in
+#: [1, 6.2]). Glass in a polymer, to 1e-10 (``fw.solve_inclusions``, margin 0): a sphere in a 16^3 box 10 GMRES
+#: iterations and 0.50 s folded, 8 and 0.41 s padded; one filling a 64^3 box 16 and 12.4 s on 72^3, 10 and 10.3 s on
+#: 128^3. The filled cell's inverse alone (a carbide: no inner solve) keeps the folded lattice (12 iterations against
+#: 11 on 64^3, on 5.6 times fewer points).
+FOLDED_INNER = False
+
+
 def periodic_cell(own_shape, cells):
     """The Fourier preconditioner's periodic cell for bodies on the cuboids ``cells`` (``np.nonzero`` of an
     indicator) of a box whose own lattice (half its padded one) is ``own_shape``: ``"own"`` where their periodic
@@ -318,7 +328,8 @@ class FourierPreconditioner:
     it does worse (a sphere filling a 64^3 box, images touching: 17 against 11), so
     :class:`EquivalentInclusionProblem` uses it only where they stay :data:`OWN_LATTICE_GAP` cuboids apart,
     and elsewhere ``"folded"``, the box grown by :data:`~framework.operators.eigenstrain.FOLDED_GAP` cuboids
-    (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11).
+    (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11), or the padded one
+    where the cell's system is solved there (:data:`FOLDED_INNER`).
 
     The inverse alone leaves a stiff (or soft) body's smooth modes far from 1 (:func:`filled_cell_estimate`): on
     the own lattice, and on the folded one where that estimate reaches :data:`INNER_FROM`,
@@ -473,6 +484,11 @@ class EquivalentInclusionProblem:
             if preconditioner == "fourier" and len(self.cells[0]) > 0 else np.zeros(1)
         self.inner = bool((estimate.max() >= INNER_FROM or (estimate.max() > 0.0 and self._lattice == "own"))
                           and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
+        # the cell's system on the folded lattice can be indefinite (its kernels sum the nearest image for some offsets
+        # and not for others): solved there, on the padded one where its matrices fit (:data:`FOLDED_INNER`)
+        if self.inner and not FOLDED_INNER and lattice is None and self._lattice == "folded" and \
+                FourierPreconditioner.fits(operator, self.stiffness, "padded", forward=True):
+            self._lattice = "padded"
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
         self._shared = shared       # (the latest modulus's only: the problems sharing it share their modulus)
