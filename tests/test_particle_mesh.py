@@ -174,16 +174,23 @@ def test_bad_input_is_named():
         operator.strain(np.zeros((3, 6)))
 
 
+def four_glass_spheres():
+    """Four glass spheres of radius 4.2 cuboids, one 6 cuboids under the surface (centres in cuboids: x1, x2 from the
+    grid's middle, x3 from the surface)."""
+    from framework import inclusions, materials
+    glass = materials.Elastic(70e9, 0.22)
+    centres = [(-8, -8, 12), (4, -4, 16), (-4, 7, 22), (8, 8, 10)]
+    return inclusions.InclusionSet([inclusions.Ellipsoid(center=tuple(c * H for c in centre), semi_axes=(4.2 * H,) * 3,
+                                                         material=glass) for centre in centres])
+
+
 @pytest.fixture(scope="module")
 def glass_in_polymer():
     """Four glass spheres (radius 4.2 cuboids, one 6 cuboids under the surface) in a polymer under a uniform strain,
     solved on the box around them (``fw.solve_inclusions``, the reference) and on their cuboids alone."""
-    from framework import inclusions, materials
+    from framework import materials
     from framework.inclusions.dispersed import solve_on_bodies
-    glass, polymer = materials.Elastic(70e9, 0.22), materials.Elastic(3e9, 0.35)
-    centres = [(-8, -8, 12), (4, -4, 16), (-4, 7, 22), (8, 8, 10)]
-    bodies = inclusions.InclusionSet([inclusions.Ellipsoid(center=tuple(c * H for c in centre), semi_axes=(4.2 * H,) * 3,
-                                                           material=glass) for centre in centres])
+    polymer, bodies = materials.Elastic(3e9, 0.35), four_glass_spheres()
     applied = np.array([[1e-3, 5e-4, 0.0], [5e-4, 0.0, 0.0], [0.0, 0.0, -1e-3]])
     box = fw.solve_inclusions(grid(), polymer, bodies, applied, tolerance=1e-10)
     mesh = solve_on_bodies(grid(), polymer, bodies, applied, tolerance=1e-10, near=8.0)
@@ -259,12 +266,9 @@ def test_the_bodies_preconditioner_is_nearly_linear():
     body, solved to ``dispersed.BODY_TOLERANCE``. Measured on the four glass spheres, ``|M(a + b) - M(a) - M(b)|``
     over ``|M(a + b)|``, random and smooth a, b: 3.7e-3 / 1.4e-2 at the box path's inner tolerance 0.1 (the roll over
     30 spheres at 8 cuboids per radius stalled there), 1.7e-3 / 3.4e-3 at 3e-2, 5.1e-4 / 6.9e-4 at 1e-2."""
-    from framework import inclusions, materials
+    from framework import materials
     from framework.inclusions.dispersed import BODY_TOLERANCE, BodyPreconditioner, body_cells
-    glass, polymer = materials.Elastic(70e9, 0.22), materials.Elastic(3e9, 0.35)
-    centres = [(-8, -8, 12), (4, -4, 16), (-4, 7, 22), (8, 8, 10)]
-    bodies = inclusions.InclusionSet([inclusions.Ellipsoid(center=tuple(c * H for c in centre), semi_axes=(4.2 * H,) * 3,
-                                                           material=glass) for centre in centres])
+    polymer, bodies = materials.Elastic(3e9, 0.35), four_glass_spheres()
     cells, body = body_cells(grid(), bodies)
     precondition = BodyPreconditioner(grid(), polymer.poisson, cells, body, [b.stiffness_tensor for b in bodies],
                                       polymer.young)

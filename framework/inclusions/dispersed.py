@@ -34,13 +34,11 @@ from .equivalent import EquivalentInclusionProblem
 #: at 1e-2. 1e-2 keeps a margin of ten below the stall.
 BODY_TOLERANCE = 1e-2
 BODY_ITERATIONS = 40
-#: Each body's periodic cell: the padded lattice, twice its box (as the box path's for a body filling its box whose
-#: cell's system is solved, :data:`~framework.inclusions.equivalent.FOLDED_INNER`). Folded, the kernels' nearest images are summed for some offsets and not for
-#: others, and a sphere of radius 8 cuboids in its 16^3 box on the 24^3 lattice had eigenvalues near -5.2 in its
-#: inner system (Arnoldi's Ritz values; [1, 27] at radius 7.4 in a 15 x 14 x 15 box); padded, [1, 6.2] and [1, 6.0]
-#: (the box's own lattice, images touching: [1, 7.2], but 32 products a roll step where the padded one takes 10-11).
-#: The first roll over 30 spheres at 8 cuboids per radius: 10-11 products and 8.6-9.9 s a step, against 11 and
-#: 10.9 s folded.
+#: Each body's periodic cell: the padded lattice, twice its box, as the box path's where the cell's system is solved
+#: (:data:`~framework.inclusions.equivalent.FOLDED_INNER`: on the folded one a sphere of radius 8 cuboids in its 16^3
+#: box had Ritz values near -5.2, and [1, 27] at radius 7.4 in a 15 x 14 x 15 box; padded [1, 6.2] and [1, 6.0]). The
+#: first roll over 30 spheres at 8 cuboids per radius: 10-11 products and 8.6-9.9 s a step, against 11 and 10.9 s
+#: folded; on the box's own lattice (images touching: [1, 7.2]) 32 products, the lone body badly preconditioned.
 LATTICE = "padded"
 
 
