@@ -43,7 +43,7 @@ a step (18-22 before) and 0.78-6.2 s (1.3-13 s). 300 bodies at 8 cuboids per rad
 preconditioner's matrices above equivalent.FOURIER_BYTES and solved each cuboid alone, 32 products and 542 s a step;
 with FOURIER_CUBOID_BYTES a box cuboid, 9 products and 175 s a step, 10.8 GiB. On the bodies' cuboids alone
 (``--operator particle_mesh``, README "Many fine bodies"): 10 / 100 / 300 bodies at 8 cuboids per radius 2.15 / 23.0 /
-91 s a step, 7.0 / 7.9 / 10.2 products, 0.55 / 1.76 / 4.35 GiB (the box: 2.54 / 33.3 / 131 s, 1.00 / 3.09 / 8.04 GiB).
+91 s a step, 7.0 / 7.9 / 10.2 products, 0.55 / 1.76 / 4.35 GiB (the box: 2.71 / 33.3 / 131 s, 0.81 / 3.13 / 8.04 GiB).
 """
 import argparse
 import multiprocessing

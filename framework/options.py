@@ -51,7 +51,7 @@ class Options:
         ``"particle_mesh"`` (their cuboids alone, a coarse box and exact near tables:
         :class:`~framework.operators.particle_mesh.ParticleMeshEigenstrain`; memory follows the bodies, not
         the box, at an error of about 1e-3 of the operator; staircase geometry only; 100 glass spheres of 8 cuboids
-        per radius rolled over in 23 s a step and 1.76 GiB against the box's 33 s and 3.09 GiB, see the README).
+        per radius rolled over in 23 s a step and 1.76 GiB against the box's 33 s and 3.13 GiB, see the README).
     time_tolerance : float or None
         Largest estimated time-stepping error of a material with memory,
         relative to the run's pressure and approach scale, in [1e-8, 0.1]: between two output times the run
