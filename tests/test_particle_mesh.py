@@ -312,6 +312,24 @@ def test_each_bodys_inner_system_has_a_positive_spectrum():
     assert ritz.real.min() > 0.99 and ritz.real.max() < 8.0, (ritz.real.min(), ritz.real.max())
 
 
+def test_a_body_too_large_for_the_padded_matrices_keeps_the_box_paths_cell(monkeypatch):
+    """Where the padded lattice's matrices would exceed the preconditioner's memory (here made 2 MB), a body's cell is
+    the one the box path would choose."""
+    from framework import inclusions, materials
+    from framework.inclusions import equivalent
+    from framework.inclusions.dispersed import BodyPreconditioner, body_cells
+    glass, polymer = materials.Elastic(70e9, 0.22), materials.Elastic(3e9, 0.35)
+    body = inclusions.InclusionSet([inclusions.Ellipsoid(center=(0.3 * H, 0.1 * H, 15.2 * H), semi_axes=(8 * H,) * 3,
+                                                         material=glass)])
+    cells, owner = body_cells(grid(), body)
+    lattices, default = {}, equivalent.FOURIER_BYTES
+    for limit in (default, 2 * 2**20):
+        monkeypatch.setattr(equivalent, "FOURIER_BYTES", limit)
+        lattices[limit] = BodyPreconditioner(grid(), polymer.poisson, cells, owner, [body[0].stiffness_tensor],
+                                             polymer.young).problems[0][0]._lattice
+    assert lattices[default] == "padded" and lattices[2 * 2**20] != "padded"
+
+
 def test_surface_displacement_against_the_box_operator(spheres, mesh8):
     """Betti's surface displacement of the bodies' eigenstrains (the contact's part of a coupling): the coarse box's,
     interpolated to the grid's cells, and the fine operator's own within the near radius of the cells within

@@ -22,7 +22,7 @@ from ..grid import Grid
 from ..materials import Elastic
 from ..operators.eigenstrain import HalfSpaceEigenstrain
 from ..operators.particle_mesh import NEAR, ParticleMeshEigenstrain
-from .equivalent import EquivalentInclusionProblem
+from .equivalent import EquivalentInclusionProblem, FourierPreconditioner, mandel_matrix
 
 #: The relative residual to which each body's system in its filled cell is solved, and its inner iterations at most.
 #: The coupling's Anderson mixing takes the preconditioner for a linear map (its residuals' differences for the
@@ -88,8 +88,11 @@ class BodyPreconditioner:
             indicator = np.zeros(shape, dtype=np.int8)
             indicator[tuple((cells[rows] - low).T)] = 1
             key = (shape, stiffnesses[k].tobytes())
+            # (a body too large for the padded lattice's matrices: the box path's choice)
+            lattice = LATTICE if FourierPreconditioner.fits(operators[shape], [mandel_matrix(stiffnesses[k])], LATTICE,
+                                                            forward=True) else None
             problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
-                                                 preconditioner="fourier", recycle=False, lattice=LATTICE,
+                                                 preconditioner="fourier", recycle=False, lattice=lattice,
                                                  shared=shared.setdefault(key, {}))
             problem.inner_tolerance, problem.inner_iterations = BODY_TOLERANCE, BODY_ITERATIONS
             self.problems.append((problem, key))
