@@ -283,9 +283,10 @@ def test_the_bodies_preconditioner_is_nearly_linear():
 
 
 def test_each_bodys_inner_system_has_a_positive_spectrum():
-    """Each body's system in its periodic cell (``dispersed.LATTICE``), right-preconditioned by the cell's inverse,
-    as the inner solve iterates on it: a sphere of radius 8 cuboids in its 16^3 box. Measured Ritz values (40 Arnoldi
-    steps): 1.0002 ... 6.2 on the padded lattice; -5.24 ... 6.1 on the folded one (the box grown by 8 cuboids)."""
+    """Each body's system in its periodic cell (``equivalent.FOLDED_INNER``), right-preconditioned by the cell's
+    inverse, as the inner solve iterates on it: a sphere of radius 8 cuboids in its 16^3 box. Measured Ritz values (40
+    Arnoldi steps): 1.0002 ... 6.2 on the padded lattice; -5.24 ... 6.1 on the folded one (the box grown by 8
+    cuboids)."""
     from framework import inclusions, materials
     from framework.inclusions.dispersed import BodyPreconditioner, body_cells
     glass, polymer = materials.Elastic(70e9, 0.22), materials.Elastic(3e9, 0.35)

@@ -22,7 +22,7 @@ from ..grid import Grid
 from ..materials import Elastic
 from ..operators.eigenstrain import HalfSpaceEigenstrain
 from ..operators.particle_mesh import NEAR, ParticleMeshEigenstrain
-from .equivalent import EquivalentInclusionProblem, FourierPreconditioner, mandel_matrix
+from .equivalent import EquivalentInclusionProblem
 
 #: The relative residual to which each body's system in its filled cell is solved, and its inner iterations at most.
 #: The coupling's Anderson mixing takes the preconditioner for a linear map (its residuals' differences for the
@@ -34,12 +34,6 @@ from .equivalent import EquivalentInclusionProblem, FourierPreconditioner, mande
 #: at 1e-2. 1e-2 keeps a margin of ten below the stall.
 BODY_TOLERANCE = 1e-2
 BODY_ITERATIONS = 40
-#: Each body's periodic cell: the padded lattice, twice its box, as the box path's where the cell's system is solved
-#: (:data:`~framework.inclusions.equivalent.FOLDED_INNER`: on the folded one a sphere of radius 8 cuboids in its 16^3
-#: box had Ritz values near -5.2, and [1, 27] at radius 7.4 in a 15 x 14 x 15 box; padded [1, 6.2] and [1, 6.0]). The
-#: first roll over 30 spheres at 8 cuboids per radius: 10-11 products and 8.6-9.9 s a step, against 11 and 10.9 s
-#: folded; on the box's own lattice (images touching: [1, 7.2]) 32 products, the lone body badly preconditioned.
-LATTICE = "padded"
 #: Each body's box is its cuboids' extent rounded up to a multiple of this along each axis, the body in its middle: a
 #: margin of 0-3 cuboids where a body filled its box tightly (22 randomly oriented glass fibres of aspect 4, 4.2
 #: cuboids across, rolled over: the first roll step 19 -> 11 products, the later steps 10-15 % faster; a margin of 2
@@ -96,11 +90,12 @@ class BodyPreconditioner:
             indicator = np.zeros(shape, dtype=np.int8)
             indicator[tuple((cells[rows] - low).T)] = 1
             key = (shape, stiffnesses[k].tobytes())
-            # (a body too large for the padded lattice's matrices: the box path's choice)
-            lattice = LATTICE if FourierPreconditioner.fits(operators[shape], [mandel_matrix(stiffnesses[k])], LATTICE,
-                                                            forward=True) else None
+            # the cell the box path takes for a body filling its box: for a stiff one whose cell's system is solved,
+            # the padded lattice where its matrices fit (equivalent.FOLDED_INNER: on the folded one a sphere of radius
+            # 8 cuboids in its 16^3 box had Ritz values near -5.2; padded [1, 6.2]; the first roll over 30 spheres at 8
+            # cuboids per radius 10-11 products a step against 11, 8.6-9.9 s against 10.9 s)
             problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
-                                                 preconditioner="fourier", recycle=False, lattice=lattice,
+                                                 preconditioner="fourier", recycle=False,
                                                  shared=shared.setdefault(key, {}))
             problem.inner_tolerance, problem.inner_iterations = BODY_TOLERANCE, BODY_ITERATIONS
             self.problems.append((problem, key))
