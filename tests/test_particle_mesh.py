@@ -331,6 +331,25 @@ def test_a_body_too_large_for_the_padded_matrices_keeps_the_box_paths_cell(monke
     assert lattices[default] == "padded" and lattices[2 * 2**20] != "padded"
 
 
+def test_the_bodies_operators_build_the_folded_kernels_only_where_a_body_takes_that_lattice(monkeypatch):
+    """A body's box operator builds the folded lattice's kernels only where the body's cell is on it: not for a glass
+    sphere (the padded lattice), but where the padded lattice's matrices would not fit (here 2 MB)."""
+    from framework import inclusions, materials
+    from framework.inclusions import equivalent
+    from framework.inclusions.dispersed import BodyPreconditioner, body_cells
+    glass, polymer = materials.Elastic(70e9, 0.22), materials.Elastic(3e9, 0.35)
+    body = inclusions.InclusionSet([inclusions.Ellipsoid(center=(0.3 * H, 0.1 * H, 15.2 * H), semi_axes=(8 * H,) * 3,
+                                                         material=glass)])
+    cells, owner = body_cells(grid(), body)
+    made, default = {}, equivalent.FOURIER_BYTES
+    for limit in (default, 2 * 2**20):
+        monkeypatch.setattr(equivalent, "FOURIER_BYTES", limit)
+        problem = BodyPreconditioner(grid(), polymer.poisson, cells, owner, [body[0].stiffness_tensor],
+                                     polymer.young).problems[0][0]
+        made[limit] = problem._lattice, problem.operator._folded is not None
+    assert made[default] == ("padded", False) and made[2 * 2**20] == ("folded", True)
+
+
 def test_surface_displacement_against_the_box_operator(spheres, mesh8):
     """Betti's surface displacement of the bodies' eigenstrains (the contact's part of a coupling): the coarse box's,
     interpolated to the grid's cells, and the fine operator's own within the near radius of the cells within

@@ -117,6 +117,40 @@ def periodic_cell(own_shape, cells):
     return "own" if own else "folded"
 
 
+def preconditioner_cell(lattices, cells, stiffnesses, young, poisson, preconditioner="auto", lattice=None):
+    """How :class:`EquivalentInclusionProblem` preconditions bodies on the cuboids ``cells`` (``np.nonzero`` of an
+    indicator) of a box, of the stiffnesses ``stiffnesses`` (Mandel matrices) in a matrix of Young's modulus ``young``
+    [Pa] and Poisson ratio ``poisson``: ``(lattice, preconditioner, inner)``, the Fourier preconditioner's periodic
+    cell, ``"fourier"`` or ``"local"``, and whether the cell's system is solved on the bodies' cuboids.
+
+    ``lattices`` is the box's operator or, before it is built, its
+    :class:`~framework.operators.eigenstrain.BoxLattices`: the operator builds the folded lattice's kernels only where
+    this chooses that lattice for the Fourier preconditioner (a glass sphere filling a 64^3 box takes the padded one,
+    and its build 1.6 -> 1.2 s without them). ``preconditioner`` and ``lattice`` as the problem takes them."""
+    chosen = periodic_cell(lattices.own_shape, cells)
+    if chosen == "folded" and np.prod(lattices.folded_shape) >= np.prod(lattices.fft_shape):
+        chosen = "padded"
+    if lattice is not None:
+        chosen = lattice
+    if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
+        same = all(np.abs(c - stiffnesses[0]).max() <= 1e-12 * np.abs(stiffnesses[0]).max() for c in stiffnesses)
+        preconditioner = "fourier" if same and FourierPreconditioner.fits(lattices, stiffnesses, chosen) else "local"
+    # on the box's own lattice, or where the filled cell's inverse alone leaves a body's smooth modes far from 1
+    # (INNER_FROM), the Fourier preconditioner solves the bodies' system in that cell on their cuboids (the cell's
+    # operator, at their own contrast, kept beside the inverse); a nonlinear map: the Krylov solver keeps its
+    # directions
+    estimate = filled_cell_estimate(stiffnesses[0], young, poisson, 200)[0] \
+        if preconditioner == "fourier" and len(cells[0]) > 0 else np.zeros(1)
+    inner = bool((estimate.max() >= INNER_FROM or (estimate.max() > 0.0 and chosen == "own"))
+                 and FourierPreconditioner.fits(lattices, stiffnesses, chosen, forward=True))
+    # the cell's system on the folded lattice can be indefinite (its kernels sum the nearest image for some offsets
+    # and not for others): solved there, on the padded one where its matrices fit (:data:`FOLDED_INNER`)
+    if inner and not FOLDED_INNER and lattice is None and chosen == "folded" and \
+            FourierPreconditioner.fits(lattices, stiffnesses, "padded", forward=True):
+        chosen = "padded"
+    return chosen, preconditioner, inner
+
+
 def mandel_matrix(tensor):
     """6x6 Mandel matrix of a stiffness tensor ``(3, 3, 3, 3)``."""
     out = np.empty((6, 6))
@@ -463,32 +497,10 @@ class EquivalentInclusionProblem:
         self._flat = np.ravel_multi_index(self.cells, operator.shape)
         self.material = indicator[self.cells] - 1
         self.stiffness = [mandel_matrix(c) for c in stiffnesses]
-        self._lattice = periodic_cell(operator.own_shape, self.cells)
-        if self._lattice == "folded" and np.prod(operator.folded_shape) >= np.prod(operator.fft_shape):
-            self._lattice = "padded"
-        if lattice is not None:
-            self._lattice = lattice
-        if preconditioner == "auto":    # the Fourier one fills the box with one material: all must share it
-            same = all(np.abs(c - self.stiffness[0]).max() <= 1e-12 * np.abs(self.stiffness[0]).max()
-                       for c in self.stiffness)
-            preconditioner = "fourier" if same and FourierPreconditioner.fits(operator, self.stiffness, self._lattice) \
-                else "local"
+        self._lattice, self.preconditioner, self.inner = preconditioner_cell(
+            operator, self.cells, self.stiffness, young, operator.poisson, preconditioner, lattice)
         # the contrast the Fourier preconditioner fills the box with: the bodies' own, or a dispersion's share
         self._share = 1.0 if len(self.stiffness) <= FOURIER_BODIES else DISPERSION_CONTRAST
-        self.preconditioner = preconditioner
-        # on the box's own lattice, or where the filled cell's inverse alone leaves a body's smooth modes far from 1
-        # (INNER_FROM), the Fourier preconditioner solves the bodies' system in that cell on their cuboids (the cell's
-        # operator, at their own contrast, kept beside the inverse); a nonlinear map: the Krylov solver keeps its
-        # directions
-        estimate = filled_cell_estimate(self.stiffness[0], young, operator.poisson, 200)[0] \
-            if preconditioner == "fourier" and len(self.cells[0]) > 0 else np.zeros(1)
-        self.inner = bool((estimate.max() >= INNER_FROM or (estimate.max() > 0.0 and self._lattice == "own"))
-                          and FourierPreconditioner.fits(operator, self.stiffness, self._lattice, forward=True))
-        # the cell's system on the folded lattice can be indefinite (its kernels sum the nearest image for some offsets
-        # and not for others): solved there, on the padded one where its matrices fit (:data:`FOLDED_INNER`)
-        if self.inner and not FOLDED_INNER and lattice is None and self._lattice == "folded" and \
-                FourierPreconditioner.fits(operator, self.stiffness, "padded", forward=True):
-            self._lattice = "padded"
         self._local = cuboid_self_strain(operator.spacing, operator.poisson, operator.average)
         self._fourier = None
         self._shared = shared       # (the latest modulus's only: the problems sharing it share their modulus)

@@ -4,8 +4,8 @@ import numpy as np
 from .._validation import check_bool, check_finite_array
 from ..errors import InclusionError, ParameterError, ShapeError
 from ..materials import Elastic, Viscoelastic, isotropic_tensor
-from ..operators.eigenstrain import COMPONENTS, HalfSpaceEigenstrain, box_lattice
-from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix, periodic_cell
+from ..operators.eigenstrain import COMPONENTS, BoxLattices, HalfSpaceEigenstrain
+from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, mandel_matrix, preconditioner_cell
 
 #: Inhomogeneities must be at least this stiff relative to the matrix (smallest eigenvalue of
 #: ``C_M^-1/2 C_I C_M^-1/2``). The cell-averaged operator's spectrum lies in [0, 0.983] (see
@@ -229,11 +229,11 @@ class InclusionProblem:
         if travel is not None:
             starts = self._check_travel(start, travel)
         # the kernels on the folded lattice only where the bodies' preconditioner will take it
-        cuboid = (*grid.spacing, grid.layer_thickness)
+        lattices = BoxLattices(self.shape, (*grid.spacing, grid.layer_thickness))
+        lattice, kind, _ = preconditioner_cell(lattices, np.nonzero(materials), [mandel_matrix(c) for c in solved],
+                                               instantaneous(matrix), matrix.poisson)
         self.operator = HalfSpaceEigenstrain(grid, matrix.poisson, start, self.shape, whole_patch=travel is not None,
-                                             starts=starts,
-                                             folded=periodic_cell([n // 2 for n in box_lattice(self.shape, cuboid)[0]],
-                                                                  np.nonzero(materials)) == "folded")
+                                             starts=starts, folded=kind == "fourier" and lattice == "folded")
         self.problem = EquivalentInclusionProblem(self.operator, materials, solved, instantaneous(matrix),
                                                   recycle=check_bool(recycle, name="recycle"))
         for k in range(len(inclusions)):
