@@ -20,9 +20,9 @@ import numpy as np
 from ..errors import InclusionError, ParameterError
 from ..grid import Grid
 from ..materials import Elastic
-from ..operators.eigenstrain import BoxLattices, HalfSpaceEigenstrain
+from ..operators.eigenstrain import HalfSpaceEigenstrain
 from ..operators.particle_mesh import NEAR, ParticleMeshEigenstrain
-from .equivalent import EquivalentInclusionProblem, mandel_matrix, preconditioner_cell
+from .equivalent import EquivalentInclusionProblem
 
 #: The relative residual to which each body's system in its filled cell is solved, and its inner iterations at most.
 #: The coupling's Anderson mixing takes the preconditioner for a linear map (its residuals' differences for the
@@ -74,36 +74,25 @@ class BodyPreconditioner:
     def __init__(self, grid, poisson, cells, body, stiffnesses, young):
         self.rows = [np.flatnonzero(body == k) for k in range(len(stiffnesses))]
         self.problems = []
-        spacing = (*grid.spacing, grid.layer_thickness)
-        boxes, folded, cases = [], {}, {}
+        operators, shared = {}, {}
         for k, rows in enumerate(self.rows):
             low = cells[rows].min(axis=0)
             extent = cells[rows].max(axis=0) - low + 1
             shape = tuple(int(m) for m in -(-extent // SHAPE_STEP) * SHAPE_STEP)
             low = low - (np.array(shape) - extent) // 2         # the body in the middle of its box
-            indicator = np.zeros(shape, dtype=np.int8)
-            indicator[tuple((cells[rows] - low).T)] = 1
-            boxes.append(indicator)
-            # the folded lattice's kernels only for a shape where some body's cell is on it (a soft one's)
-            case = (shape, tuple(extent), stiffnesses[k].tobytes())
-            if case not in cases:
-                cases[case] = preconditioner_cell(BoxLattices(shape, spacing), np.nonzero(indicator),
-                                                  [mandel_matrix(stiffnesses[k])], young, poisson, "fourier")[0]
-            folded[shape] = folded.get(shape, False) or cases[case] == "folded"
-        operators, shared = {}, {}
-        for k, indicator in enumerate(boxes):
-            shape = indicator.shape
             if shape not in operators:
                 # only the infinite-space kernels on the box's periodic cells serve: a grid of the box alone (on the
                 # whole grid each shape's Boussinesq maps reached 4 box depths around it: 100 bodies, 0.5 GiB)
+                spacing = (*grid.spacing, grid.layer_thickness)
                 own = Grid(shape=shape[:2], size=(shape[0] * spacing[0], shape[1] * spacing[1]),
                            depth=shape[2] * spacing[2], layers=shape[2])
-                operators[shape] = HalfSpaceEigenstrain(own, poisson, (0, 0, 0), shape, folded=folded[shape])
+                operators[shape] = HalfSpaceEigenstrain(own, poisson, (0, 0, 0), shape)
+            indicator = np.zeros(shape, dtype=np.int8)
+            indicator[tuple((cells[rows] - low).T)] = 1
             key = (shape, stiffnesses[k].tobytes())
-            # the cell the box path takes for a body filling its box: for a stiff one whose cell's system is solved,
-            # the padded lattice where its matrices fit (equivalent.FOLDED_INNER: on the folded one a sphere of radius
-            # 8 cuboids in its 16^3 box had Ritz values near -5.2; padded [1, 6.2]; the first roll over 30 spheres at 8
-            # cuboids per radius 10-11 products a step against 11, 8.6-9.9 s against 10.9 s)
+            # the cell the box path takes for a body filling its box: the folded lattice (on the cell's clipped
+            # symbol, equivalent.CLIP_SYMBOL: unclipped, a sphere of radius 8 cuboids in its 16^3 box had Ritz values
+            # near -5.2 there)
             problem = EquivalentInclusionProblem(operators[shape], indicator, [stiffnesses[k]], young,
                                                  preconditioner="fourier", recycle=False,
                                                  shared=shared.setdefault(key, {}))

@@ -98,14 +98,19 @@ INNER_BYTES = 256 * 2**20
 OWN_LATTICE_GAP = 6
 
 
-#: Whether the inner solve may iterate on the folded lattice (a box its bodies fill): no, on the padded one: the folded
-#: kernels sum the nearest image for some offsets and not for others, and the cell's system there can be indefinite
-#: (a glass sphere of radius 8 cuboids in its 16^3 box on the 24^3 lattice: Ritz values down to -5.2; on 32^3 in
-#: [1, 6.2]). Glass in a polymer, to 1e-10 (``fw.solve_inclusions``, margin 0): a sphere in a 16^3 box 10 GMRES
-#: iterations and 0.50 s folded, 8 and 0.41 s padded; one filling a 64^3 box 16 and 12.4 s on 72^3, 10 and 10.3 s on
-#: 128^3. The filled cell's inverse alone (a carbide: no inner solve) keeps the folded lattice (12 iterations against
-#: 11 on 64^3, on 5.6 times fewer points).
-FOLDED_INNER = False
+#: Whether the Fourier preconditioner's cell takes the kernels' symbol with the eigenvalues of ``D`` (in the matrix's
+#: energy) clipped to [0, 1] (:func:`admissible_symbol`), the continuous Green operator's range. The kernels of a box
+#: on a periodic lattice are its own, cut off beyond the box: their symbol overshoots, from -0.027 to 1.102 on a 16^3
+#: box's padded lattice and -0.055 to 1.082 on its folded one (-0.010 to 1.023 on its own lattice). The cell's
+#: operator ``(C_I - C_M) D + C_M`` is then singular at some wavenumber for a contrast above about 1 / 0.05 = 20 or
+#: below 1 - 1 / 1.08 = 0.07 (glass in a polymer: 25 in shear), and its system on the bodies indefinite (Ritz values
+#: down to -5.2): the inner solve crawled, and had been moved from the folded lattice to the padded one. Clipped, a
+#: sphere filling a 16^3 box, to 1e-10, on the folded lattice: glass in a polymer 200 -> 68 transforms of the cell (12
+#: GMRES iterations either way), a body 0.05 times as stiff as steel 152 -> 74; carbide in steel (the inverse alone)
+#: 11 iterations either way. The folded lattice serves the inner solve again, on fewer points than the padded one:
+#: glass filling a 24^3, 32^3, 48^3 and 64^3 box 0.41 -> 0.21, 0.91 -> 0.52, 6.1 -> 3.0 and 11.3 -> 6.9 s (one more
+#: iteration, three at 64^3).
+CLIP_SYMBOL = True
 
 
 def periodic_cell(own_shape, cells):
@@ -125,8 +130,8 @@ def preconditioner_cell(lattices, cells, stiffnesses, young, poisson, preconditi
 
     ``lattices`` is the box's operator or, before it is built, its
     :class:`~framework.operators.eigenstrain.BoxLattices`: the operator builds the folded lattice's kernels only where
-    this chooses that lattice for the Fourier preconditioner (a glass sphere filling a 64^3 box takes the padded one,
-    and its build 1.6 -> 1.2 s without them). ``preconditioner`` and ``lattice`` as the problem takes them."""
+    this chooses that lattice for the Fourier preconditioner (not for bodies of several materials, preconditioned
+    cuboid by cuboid). ``preconditioner`` and ``lattice`` as the problem takes them."""
     chosen = periodic_cell(lattices.own_shape, cells)
     if chosen == "folded" and np.prod(lattices.folded_shape) >= np.prod(lattices.fft_shape):
         chosen = "padded"
@@ -143,11 +148,6 @@ def preconditioner_cell(lattices, cells, stiffnesses, young, poisson, preconditi
         if preconditioner == "fourier" and len(cells[0]) > 0 else np.zeros(1)
     inner = bool((estimate.max() >= INNER_FROM or (estimate.max() > 0.0 and chosen == "own"))
                  and FourierPreconditioner.fits(lattices, stiffnesses, chosen, forward=True))
-    # the cell's system on the folded lattice can be indefinite (its kernels sum the nearest image for some offsets
-    # and not for others): solved there, on the padded one where its matrices fit (:data:`FOLDED_INNER`)
-    if inner and not FOLDED_INNER and lattice is None and chosen == "folded" and \
-            FourierPreconditioner.fits(lattices, stiffnesses, "padded", forward=True):
-        chosen = "padded"
     return chosen, preconditioner, inner
 
 
@@ -167,6 +167,17 @@ def isotropic_mandel(young, poisson):
     out = 2 * mu * np.eye(6)
     out[:3, :3] += lam
     return out
+
+
+def admissible_symbol(kernel, factor):
+    """The kernels ``K(q)`` ``(..., 6, 6)`` of ``C : D`` (unit modulus, Mandel) with the eigenvalues of ``D`` in the
+    matrix's energy (``L^-1 K L^-T``, ``factor`` ``L`` the Cholesky factor of the unit stiffness) clipped to [0, 1],
+    the range of the continuous Green operator's (:data:`CLIP_SYMBOL`)."""
+    inverse = np.linalg.inv(factor)
+    symbol = np.einsum("ab,...bc,dc->...ad", inverse, kernel, inverse)
+    values, vectors = np.linalg.eigh(0.5 * (symbol + np.swapaxes(symbol, -1, -2)))
+    symbol = np.einsum("...ab,...b,...cb->...ac", vectors, np.clip(values, 0.0, 1.0), vectors)
+    return np.einsum("ab,...bc,dc->...ad", factor, symbol, factor)
 
 
 def filled_cell_estimate(stiffness, young, poisson, directions=1000):
@@ -362,8 +373,7 @@ class FourierPreconditioner:
     it does worse (a sphere filling a 64^3 box, images touching: 17 against 11), so
     :class:`EquivalentInclusionProblem` uses it only where they stay :data:`OWN_LATTICE_GAP` cuboids apart,
     and elsewhere ``"folded"``, the box grown by :data:`~framework.operators.eigenstrain.FOLDED_GAP` cuboids
-    (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11), or the padded one
-    where the cell's system is solved there (:data:`FOLDED_INNER`).
+    (a sphere filling a 64^3 box: 72^3 points instead of 128^3, 12 iterations against 11).
 
     The inverse alone leaves a stiff (or soft) body's smooth modes far from 1 (:func:`filled_cell_estimate`): on
     the own lattice, and on the folded one where that estimate reaches :data:`INNER_FROM`,
@@ -375,10 +385,9 @@ class FourierPreconditioner:
         self.operator, self.lattice = operator, lattice
         direct, (first, second), parities = operator.infinite_spectra(lattice)
         unit = isotropic_mandel(1.0, operator.poisson)
-        arguments = (direct, first, second, *parities, contrast @ np.linalg.inv(unit), matrix)
+        left, factor = contrast @ np.linalg.inv(unit), np.linalg.cholesky(unit)
         same = forward is not None and np.array_equal(forward, contrast)
-        forward_arguments = None if forward is None or same else \
-            (direct, first, second, *parities, forward @ np.linalg.inv(unit), matrix)
+        forward_left = None if forward is None or same else forward @ np.linalg.inv(unit)
         n1, n2, n3 = operator.lattice_shape(lattice)
         # Reflected along x1 or x2, K(q) changes the signs of the components odd along that axis; when the
         # contrast and the matrix keep them (isotropic, or orthotropic along the axes), so do the inverses,
@@ -392,10 +401,13 @@ class FourierPreconditioner:
         self.matrices = np.empty((len(rows), len(columns), n3 // 2 + 1, 6, 6))
         self.forward = None if forward is None else np.empty_like(self.matrices)
         for row in rows:        # a row at a time: no second array of the matrices' size
-            matrices = fourier_matrices(*arguments, n1, n2, rows=[row], columns=columns)[0]
+            kernel = fourier_matrices(direct, first, second, *parities, np.eye(6), np.zeros((6, 6)), n1, n2,
+                                      rows=[row], columns=columns)[0]
+            if CLIP_SYMBOL:
+                kernel = admissible_symbol(kernel, factor)
+            matrices = np.einsum("ac,...cb->...ab", left, kernel) + matrix
             if forward is not None:
-                self.forward[row] = matrices if same else \
-                    fourier_matrices(*forward_arguments, n1, n2, rows=[row], columns=columns)[0]
+                self.forward[row] = matrices if same else np.einsum("ac,...cb->...ab", forward_left, kernel) + matrix
             self.matrices[row] = np.linalg.inv(matrices)
 
     @staticmethod
