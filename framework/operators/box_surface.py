@@ -121,21 +121,28 @@ class BoxSurface:
         (p1, p2), m1 = self.fft_shape, self.footprint_shape[0]
         h2 = p2 // 2 + 1
         self._rows_in = fft.zeros((6, m1, p2))
-        self._rows_out = fft.zeros((6, m1, h2), complex)
         self._columns_in = fft.zeros((6, p1, h2), complex)
         self._columns_out = fft.zeros((6, p1, h2), complex)
-        self._back_rows_in = fft.zeros((6, m1, h2), complex)
         self._back_rows_out = fft.zeros((6, m1, p2))
         self._plane_in = fft.zeros((p1, p2))
         self._plane_spectrum = fft.zeros((p1, h2), complex)
         self._plane_out = fft.zeros((p1, p2))
-        self._rows = fft.Transform(self._rows_in, self._rows_out, axes=(2,))
         self._columns = fft.Transform(self._columns_in, self._columns_out, axes=(1,))
         self._spread = fft.zeros((6, p1, h2), complex)
         self._back_columns = fft.Transform(self._spread, self._columns_out, axes=(1,), inverse=True)
-        self._back_rows = fft.Transform(self._back_rows_in, self._back_rows_out, axes=(2,))
         self._plane_forward = fft.Transform(self._plane_in, self._plane_spectrum, axes=(0, 1))
         self._plane_inverse = fft.Transform(self._plane_spectrum, self._plane_out, axes=(0, 1))
+        self._row_transforms = {}
+
+    def _footprint_rows(self, f1):
+        """The transforms along x2 of the footprint's rows, which start at the padded grid's row ``f1``: the forward
+        one writes them into the columns' input, the inverse one reads them from the columns' output (a copy between
+        them and buffers of their own took 0.5 + 0.3 ms of a 64^3 box's product); made at a place's first use."""
+        if f1 not in self._row_transforms:
+            rows = slice(f1, f1 + self.footprint_shape[0])
+            self._row_transforms[f1] = (fft.Transform(self._rows_in, self._columns_in[:, rows], axes=(2,)),
+                                        fft.Transform(self._columns_out[:, rows], self._back_rows_out, axes=(2,)))
+        return self._row_transforms[f1]
 
     def move(self, start):
         """The box's footprint starts at the grid cell ``start = (s1, s2)`` (within the places planned)."""
@@ -147,6 +154,7 @@ class BoxSurface:
             self._rows_in[...] = 0.0            # the zero padding outside the footprint moves with it
             self._columns_in[...] = 0.0
             self.position = position
+            self._rows, self._back_rows = self._footprint_rows(int(position[0]))
 
     def surface(self, field, *kinds, weights=None):
         """Spectra ``(P1, P2/2 + 1)`` of surface fields of a box field ``(m1, m2, m3, 6)``, unnormalised, one per kind.
@@ -156,7 +164,7 @@ class BoxSurface:
         times the shear weights, see :meth:`HalfSpaceEigenstrain.surface_displacement`). Several kinds share
         the transforms of the field.
         """
-        m1, (f1, f2) = self.footprint_shape[0], self.position
+        f2 = self.position[1]
         sums = []
         for kind in kinds:
             if kind == "traction":
@@ -169,8 +177,7 @@ class BoxSurface:
         passes = loops()
         for layer in range(self.layers):
             passes.surface_planes(self._rows_in, field, layer, f2)
-            self._rows()
-            self._columns_in[:, f1:f1 + m1] = self._rows_out
+            self._rows()                # (into the columns' input)
             self._columns()
             for total, (kernels, factors, parities) in zip(totals, sums):
                 passes.surface_sum(total, kernels, factors, parities, self._columns_out, 6 * layer)
@@ -180,15 +187,14 @@ class BoxSurface:
         """Stress ``(m1, m2, m3, 6)`` at the box's cuboid centres of the surface pressure whose unnormalised
         spectrum (as :meth:`spectrum` gives it) is ``spectrum`` [stress per unit pressure]; added to the box
         field ``add_to`` (and returned) when given."""
-        (m1, m2), (f1, f2) = self.footprint_shape, self.position
+        (m1, m2), f2 = self.footprint_shape, self.position[1]
         out = np.empty((m1, m2, self.layers, 6)) if add_to is None else add_to
         scale = 1.0 / (self.fft_shape[0] * self.fft_shape[1])
         passes = loops()
         for layer in range(self.layers):
             passes.surface_spread(self._spread, self._love, self._love_factor, self._love_parity, spectrum, 6 * layer)
             self._back_columns()
-            self._back_rows_in[...] = self._columns_out[:, f1:f1 + m1]
-            self._back_rows()
+            self._back_rows()           # (from the columns' output)
             passes.surface_add(out, self._back_rows_out, layer, f2, scale, add_to is not None)
         return out
 
