@@ -26,7 +26,7 @@ from scipy.linalg import solve_triangular
 
 from ..errors import ConvergenceError, ParameterError, ShapeError
 from ..materials import isotropic_tensor
-from ..operators._box_loops import fourier_matrices, loops
+from ..operators._box_loops import fourier_kernels, loops
 from ..operators.eigenstrain import COMPONENTS, MANDEL, cuboid_potentials, strain_from_potentials
 
 #: GMRES restart length: the Krylov basis holds this many vectors of 6 values per cuboid of the
@@ -401,8 +401,7 @@ class FourierPreconditioner:
         self.matrices = np.empty((len(rows), len(columns), n3 // 2 + 1, 6, 6))
         self.forward = None if forward is None else np.empty_like(self.matrices)
         for row in rows:        # a row at a time: no second array of the matrices' size
-            kernel = fourier_matrices(direct, first, second, *parities, np.eye(6), np.zeros((6, 6)), n1, n2,
-                                      rows=[row], columns=columns)[0]
+            kernel = fourier_kernels(direct, first, second, *parities, n1, n2, rows=[row], columns=columns)[0]
             if CLIP_SYMBOL:
                 kernel = admissible_symbol(kernel, factor)
             matrices = np.einsum("ac,...cb->...ab", left, kernel) + matrix

@@ -591,9 +591,9 @@ class NumpyLoops:
         spectra[...] = np.einsum("...ab,b...->a...", matrices, spectra)
 
 
-def fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, n2, rows=None, columns=None):
-    """``left K(q) + right`` ``(rows, columns, h, 6, 6)`` for the rows ``i1`` and columns ``i2`` of the full wavenumber
-    grid (all by default), ``K(q)`` expanded from the stored kernels of ``q1, q2 >= 0`` by the entries' parities."""
+def fourier_kernels(direct, first, second, parity1, parity2, n1, n2, rows=None, columns=None):
+    """``K(q)`` ``(rows, columns, h, 6, 6)`` for the rows ``i1`` and columns ``i2`` of the full wavenumber grid (all by
+    default), expanded from the stored kernels of ``q1, q2 >= 0`` by the entries' parities."""
     rows = np.arange(n1) if rows is None else np.asarray(rows)
     i2 = np.arange(n2) if columns is None else np.asarray(columns)
     j1, j2 = np.minimum(rows, n1 - rows), np.minimum(i2, n2 - i2)
@@ -604,7 +604,7 @@ def fourier_matrices(direct, first, second, parity1, parity2, left, right, n1, n
         value = direct[e][j1][:, j2] * sign[..., None]
         kernel[..., a, b] = value
         kernel[..., b, a] = value
-    return np.einsum("ac,...cb->...ab", left, kernel) + right
+    return kernel
 
 
 #: The loops, by name.
