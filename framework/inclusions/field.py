@@ -10,8 +10,10 @@ from .equivalent import MANDEL, EquivalentInclusionProblem, isotropic_mandel, ma
 #: Inhomogeneities must be at least this stiff relative to the matrix (smallest eigenvalue of
 #: ``C_M^-1/2 C_I C_M^-1/2``). The cell-averaged operator's spectrum lies in [0, 0.983] (see
 #: :data:`~framework.operators.eigenstrain.AVERAGE_POINTS`), so the system is regular for any
-#: positive stiffness, but its conditioning grows like ``1 / ratio``: GMRES takes 23 iterations at
-#: 0.2, 32 at 0.1, 44 at 0.05 (sphere, tolerance 1e-10). Voids are out of reach.
+#: positive stiffness, but its conditioning grows like ``1 / ratio``: GMRES took 23 iterations at 0.2, 32 at
+#: 0.1, 44 at 0.05 (sphere, tolerance 1e-10) before the filled cell's preconditioner, 8-10 with it. Softer bodies
+#: and voids are refused until they are validated against Eshelby's solution (a sphere at 1/19: 2.2 %,
+#: ``tests/test_inclusions.py``).
 MIN_STIFFNESS_RATIO = 0.05
 #: Inhomogeneities may be at most this stiff relative to the matrix (largest eigenvalue of the same matrix). Measured
 #: on a sphere (``tests/test_silent_results.py``): the stress converges to the rigid limit (5e-4 between 1e4 and
